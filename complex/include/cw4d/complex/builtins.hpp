@@ -1,0 +1,43 @@
+#pragma once
+// Built-in polytopes (all centred at the origin, closed, outward oriented) and the model-spec
+// parser shared by the CLI.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cw4d/complex/complex.hpp"
+
+namespace cw4d {
+
+/// Regular n-simplex (n >= 2) with circumradius 1: the n+1 standard basis vectors of R^(n+1),
+/// centred and written in the Helmert basis of the hyperplane they span, scaled to radius 1.
+Complex make_simplex(int n);
+/// n-cube [-1, 1]^n (n >= 2).
+Complex make_cube(int n);
+/// n-orthoplex (cross-polytope) with vertices +-e_i (n >= 2).
+Complex make_orthoplex(int n);
+/// Regular p-gon in the plane, circumradius 1, first vertex at (1, 0) (p >= 3).
+Complex make_polygon(int p);
+/// Cartesian product P x Q of two closed complexes (the boundary of the product solid), in
+/// R^(dim P + dim Q). Products with a segment make prisms.
+Complex make_product(const Complex& p, const Complex& q);
+/// The segment [-1, 1] as a closed 1-dimensional complex (two vertices).
+Complex make_segment();
+/// p,q-duoprism: product of a regular p-gon and a regular q-gon.
+Complex make_duoprism(int p, int q);
+
+/// One entry of the list of built-in model specs.
+struct BuiltinInfo {
+  std::string spec;         ///< e.g. "duoprism:P,Q"
+  std::string description;
+};
+const std::vector<BuiltinInfo>& builtin_list();
+
+/// True when spec names a built-in ("5-cell", "cube:5", ...), false when it should be a path.
+bool is_builtin_spec(std::string_view spec);
+
+/// Builds the model named by a spec: a built-in, or a path to a .4off / .off file.
+/// \throw InputError for an unknown or malformed built-in spec; ParseError / IoError for files.
+Complex load_model(const std::string& spec);
+
+}  // namespace cw4d

@@ -1,0 +1,42 @@
+#pragma once
+// Measures of complexes: simplicial decompositions, oriented facet normals, volumes, bounds.
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "cw4d/complex/complex.hpp"
+
+namespace cw4d {
+
+/// Calls f(vertices, sign) for the oriented k-simplices (k + 1 vertex ids) of a decomposition of
+/// element i of rank k (k >= 1): faces fan out from their first vertex, higher elements cone
+/// from their first vertex over the simplices of their boundary. Degenerate cones (apex on the
+/// boundary element) are skipped. The signed sum of the simplices is the element as a chain.
+void for_each_simplex(const Complex& complex, int rank, std::uint32_t i,
+                      const std::function<void(std::span<const std::uint32_t>, int)>& f);
+
+/// Oriented (k)-volume vector of a facet of a complex in R^(k+1): its direction is the outward
+/// normal implied by the facet's orientation (Stokes convention), its length the facet volume.
+Eigen::VectorXd facet_area_vector(const Complex& complex, std::uint32_t facet);
+
+/// Generalized cross product of n-1 vectors in R^n: X with X . y = det(u_1, ..., u_{n-1}, y).
+Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u);
+
+/// Signed n-volume enclosed by the facets of a closed complex in R^n (positive when outward).
+double signed_volume(const Complex& complex);
+
+/// k-volume of element i of rank k (sum of its simplices, measured in their own span).
+double element_volume(const Complex& complex, int rank, std::uint32_t i);
+
+/// Axis-aligned bounds, each a column vector of ambient_dim entries.
+struct Bounds {
+  Eigen::VectorXd min, max;
+};
+Bounds bounds(const Complex& complex);
+
+/// Largest distance of a vertex from the origin.
+double max_radius(const Complex& complex);
+
+}  // namespace cw4d

@@ -1,0 +1,31 @@
+#pragma once
+// 4OFF / OFF / nOFF reading and writing (the format of Stella4D and Miratope).
+//
+//   4OFF                      header: "OFF" (3D), "4OFF", or "nOFF" for n = 3..9
+//   V F E C                   counts: vertices, faces, edges, then ranks 3 .. n-1
+//   x y z w                   V vertex lines, n coordinates each
+//   k v0 v1 ... [color]       F faces as vertex cycles, optional trailing color (3 or 4
+//                             numbers, 0..1 floats or 0..255 integers)
+//   k f0 f1 ... [color]       cells as lists of face indices (then higher ranks likewise)
+// '#' starts a comment. The edge count is informational: edges are built from the face cycles.
+#include <iosfwd>
+#include <string>
+
+#include "cw4d/complex/complex.hpp"
+
+namespace cw4d {
+
+/// Reads a complex from a stream; `name` is used in error messages ("name:line: ...").
+/// The result is built with build_complex (oriented, with facet normals) but not validated.
+/// \throw ParseError with the line of the first problem.
+Complex read_off(std::istream& in, const std::string& name);
+/// Reads a file. \throw ParseError (line 0 when it cannot be opened).
+Complex read_off_file(const std::string& path);
+
+/// Writes a complex (ranks 0 .. ambient_dim - 1) as nOFF ("OFF" for 3D, "4OFF" for 4D), with
+/// full double precision and the colors of faces and higher ranks when present.
+void write_off(std::ostream& out, const Complex& complex);
+/// Writes a file through a temporary file and a rename. \throw IoError.
+void write_off_file(const std::string& path, const Complex& complex);
+
+}  // namespace cw4d

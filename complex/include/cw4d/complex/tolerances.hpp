@@ -1,0 +1,19 @@
+#pragma once
+// Every tolerance cw4d uses, in one place. All are relative to a scale stated per constant.
+
+namespace cw4d::tol {
+
+/// A vertex whose signed distance to a hyperplane is within plane_side_rel * scale is ON the
+/// plane, where scale = |n| * max_i |x_i| + |d| (n, d in model space). Used only by
+/// cw4d::classify_side, the one function every topological decision of the section uses.
+inline constexpr double plane_side_rel = 1e-10;
+
+/// A facet is planar when every vertex lies within planarity_rel * (facet diameter) of the
+/// facet's best-fit hyperplane (validate()).
+inline constexpr double planarity_rel = 1e-6;
+
+/// A facet normal or simplex volume whose magnitude is below degenerate_rel * scale^k is
+/// treated as zero (degenerate) when orienting.
+inline constexpr double degenerate_rel = 1e-12;
+
+}  // namespace cw4d::tol

@@ -1,0 +1,322 @@
+#include "cw4d/complex/off_io.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <istream>
+#include <iterator>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/builder.hpp"
+#include "cw4d/complex/error.hpp"
+
+namespace cw4d {
+
+namespace {
+
+constexpr int max_off_dim = 9;
+
+struct Line {
+  std::size_t number;
+  std::vector<std::string_view> tokens;
+};
+
+// Splits the text into non-empty lines of tokens, comments removed.
+std::vector<Line> tokenize(std::string_view text) {
+  std::vector<Line> lines;
+  std::size_t number = 0, pos = 0;
+  while (pos <= text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    ++number;
+    std::string_view line = text.substr(pos, end - pos);
+    if (auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    Line out{number, {}};
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      std::size_t j = i;
+      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+      if (j > i) out.tokens.push_back(line.substr(i, j - i));
+      i = j;
+    }
+    if (!out.tokens.empty()) lines.push_back(std::move(out));
+    if (end == text.size()) break;
+    pos = end + 1;
+  }
+  return lines;
+}
+
+class Parser {
+ public:
+  Parser(std::string name, std::vector<Line> lines) : name_(std::move(name)), lines_(std::move(lines)) {}
+
+  [[noreturn]] void fail(std::size_t line, const std::string& message) const {
+    throw ParseError(name_, line, message);
+  }
+
+  std::size_t eof_line() const { return lines_.empty() ? 1 : lines_.back().number + 1; }
+
+  const Line& next(const std::string& expected) {
+    if (cursor_ >= lines_.size()) fail(eof_line(), "unexpected end of file: expected " + expected);
+    return lines_[cursor_++];
+  }
+  bool at_end() const { return cursor_ >= lines_.size(); }
+  std::size_t remaining() const { return lines_.size() - cursor_; }
+
+  std::uint64_t parse_count(std::string_view tok, std::size_t line, const char* what) const {
+    std::uint64_t v = 0;
+    auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || ptr != tok.data() + tok.size())
+      fail(line, std::string(what) + " '" + std::string(tok) + "' is not a non-negative integer");
+    return v;
+  }
+
+  double parse_double(std::string_view tok, std::size_t line, const std::string& what) const {
+    double v = 0;
+    auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec == std::errc::result_out_of_range) fail(line, what + " '" + std::string(tok) + "' is out of range");
+    if (ec != std::errc() || ptr != tok.data() + tok.size())
+      fail(line, what + " '" + std::string(tok) + "' is not a number");
+    if (!std::isfinite(v)) fail(line, what + " '" + std::string(tok) + "' is not finite");
+    return v;
+  }
+
+  // Trailing color: 3 or 4 components, all in [0,1], or integers in [0,255].
+  Rgba parse_color(const Line& l, std::size_t first, const std::string& what) const {
+    const std::size_t n = l.tokens.size() - first;
+    if (n != 3 && n != 4)
+      fail(l.number, what + " has " + std::to_string(n) +
+                         " values after its indices (expected none, or a color of 3 or 4)");
+    double c[4] = {1, 1, 1, 1};
+    bool integral = true, above_one = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      c[i] = parse_double(l.tokens[first + i], l.number, what + " color component");
+      if (c[i] < 0 || c[i] > 255) fail(l.number, what + " color component out of range 0..255");
+      integral = integral && l.tokens[first + i].find_first_of(".eE") == std::string_view::npos;
+      above_one = above_one || c[i] > 1;
+    }
+    if (integral && above_one)
+      for (auto& x : c) x /= 255.0;
+    else if (above_one)
+      fail(l.number, what + " color mixes 0..1 and 0..255 scales");
+    if (n == 3) c[3] = 1.0;
+    return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
+            static_cast<float>(c[3])};
+  }
+
+  // "k id_0 ... id_{k-1} [color]" with ids < bound, all distinct.
+  std::vector<std::uint32_t> parse_list(const Line& l, std::uint64_t bound, const std::string& what,
+                                        const char* child, std::size_t min_size, Rgba* color,
+                                        bool* has_color) {
+    const std::uint64_t k = parse_count(l.tokens[0], l.number, (what + " size").c_str());
+    if (k < min_size)
+      fail(l.number, what + " has " + std::to_string(k) + " entries, at least " +
+                         std::to_string(min_size) + " needed");
+    if (l.tokens.size() - 1 < k)
+      fail(l.number, what + " announces " + std::to_string(k) + " entries but the line has " +
+                         std::to_string(l.tokens.size() - 1));
+    std::vector<std::uint32_t> ids;
+    ids.reserve(k);
+    for (std::size_t i = 1; i <= k; ++i) {
+      const std::uint64_t v = parse_count(l.tokens[i], l.number, (what + " entry").c_str());
+      if (v >= bound)
+        fail(l.number, what + " refers to " + child + " " + std::to_string(v) + ", but there are only " +
+                           std::to_string(bound));
+      ids.push_back(static_cast<std::uint32_t>(v));
+    }
+    std::vector<std::uint32_t> sorted = ids;
+    std::sort(sorted.begin(), sorted.end());
+    if (auto d = std::adjacent_find(sorted.begin(), sorted.end()); d != sorted.end())
+      fail(l.number, what + " lists " + child + " " + std::to_string(*d) + " twice");
+    *has_color = l.tokens.size() > k + 1;
+    if (*has_color) *color = parse_color(l, k + 1, what);
+    return ids;
+  }
+
+  Complex parse() {
+    const Line& head = next("a header (OFF, 4OFF or nOFF)");
+    std::string_view h = head.tokens[0];
+    int dim = 0;
+    if (h == "OFF") {
+      dim = 3;
+    } else if (h.size() >= 4 && h.substr(h.size() - 3) == "OFF") {
+      int v = 0;
+      auto [ptr, ec] = std::from_chars(h.data(), h.data() + h.size() - 3, v);
+      if (ec == std::errc() && ptr == h.data() + h.size() - 3) dim = v;
+    }
+    if (dim < 3 || dim > max_off_dim)
+      fail(head.number, "header '" + std::string(h) +
+                            "' is not OFF, 4OFF or nOFF with n = 3.." + std::to_string(max_off_dim));
+    // Counts may follow the header on the same line.
+    std::vector<std::string_view> count_tokens(head.tokens.begin() + 1, head.tokens.end());
+    std::size_t count_line = head.number;
+    if (count_tokens.empty()) {
+      const Line& l = next("the element counts");
+      count_tokens = l.tokens;
+      count_line = l.number;
+    }
+    if (count_tokens.size() != static_cast<std::size_t>(dim))
+      fail(count_line, "expected " + std::to_string(dim) + " counts (V F E" +
+                           (dim > 3 ? " C" : "") + (dim > 4 ? " ..." : "") + "), found " +
+                           std::to_string(count_tokens.size()));
+    std::vector<std::uint64_t> counts;
+    for (auto tok : count_tokens) counts.push_back(parse_count(tok, count_line, "count"));
+    const std::uint64_t nv = counts[0], nf = counts[1];
+    // counts[2] (edges) is informational.
+    std::uint64_t announced = nv + nf;
+    for (int k = 3; k < dim; ++k) announced += counts[k];
+    if (announced > remaining())
+      fail(count_line, "counts announce " + std::to_string(announced) +
+                           " element lines but the file has only " + std::to_string(remaining()));
+    if (nv > 0xfffffff0ull || nf > 0xfffffff0ull) fail(count_line, "count too large");
+
+    ComplexSoup soup;
+    soup.ambient_dim = dim;
+    soup.positions.resize(dim, static_cast<Eigen::Index>(nv));
+    for (std::uint64_t v = 0; v < nv; ++v) {
+      const Line& l = next("vertex " + std::to_string(v));
+      if (l.tokens.size() != static_cast<std::size_t>(dim))
+        fail(l.number, "vertex " + std::to_string(v) + " has " + std::to_string(l.tokens.size()) +
+                           " coordinates, expected " + std::to_string(dim));
+      for (int i = 0; i < dim; ++i)
+        soup.positions(i, static_cast<Eigen::Index>(v)) =
+            parse_double(l.tokens[i], l.number, "vertex " + std::to_string(v) + " coordinate");
+    }
+    std::vector<Rgba> colors;
+    bool any_color = false;
+    soup.faces.reserve(nf);
+    for (std::uint64_t f = 0; f < nf; ++f) {
+      const Line& l = next("face " + std::to_string(f));
+      Rgba color;
+      bool has = false;
+      soup.faces.push_back(parse_list(l, nv, "face " + std::to_string(f), "vertex", 3, &color, &has));
+      colors.push_back(color);
+      any_color = any_color || has;
+    }
+    if (any_color) soup.face_colors = colors;
+    for (int k = 3; k < dim; ++k) {
+      const std::uint64_t below = k == 3 ? nf : counts[k - 1];
+      const std::string kind = k == 3 ? "cell" : "rank-" + std::to_string(k) + " element";
+      const char* child = k == 3 ? "face" : (k == 4 ? "cell" : "element");
+      auto& level = soup.higher.emplace_back();
+      level.reserve(counts[k]);
+      colors.clear();
+      any_color = false;
+      for (std::uint64_t x = 0; x < counts[k]; ++x) {
+        const Line& l = next(kind + " " + std::to_string(x));
+        Rgba color;
+        bool has = false;
+        level.push_back(parse_list(l, below, kind + " " + std::to_string(x), child, 2, &color, &has));
+        colors.push_back(color);
+        any_color = any_color || has;
+      }
+      soup.higher_colors.push_back(any_color ? colors : std::vector<Rgba>{});
+    }
+    if (!at_end()) fail(lines_[cursor_].number, "unexpected data after the last element");
+    try {
+      return build_complex(soup);
+    } catch (const TopologyError& e) {
+      fail(count_line, e.what());
+    }
+  }
+
+ private:
+  std::string name_;
+  std::vector<Line> lines_;
+  std::size_t cursor_ = 0;
+};
+
+void append_number(std::string& out, double v) {
+  char buf[64];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, ptr);
+}
+
+}  // namespace
+
+Complex read_off(std::istream& in, const std::string& name) {
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw ParseError(name, 0, "read error");
+  Parser parser(name, tokenize(text));
+  return parser.parse();
+}
+
+Complex read_off_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ParseError(path, 0, "cannot open file");
+  return read_off(in, path);
+}
+
+namespace {
+
+std::string off_text(const Complex& c) {
+  const int n = c.ambient_dim();
+  if (n < 3 || n > max_off_dim)
+    throw InputError("nOFF needs a complex in R^3 .. R^" + std::to_string(max_off_dim) +
+                     ", this one is in R^" + std::to_string(n));
+  std::string out;
+  out += n == 3 ? "OFF" : std::to_string(n) + "OFF";
+  out += "\n# written by cw4d\n";
+  for (int k = 0; k < n; ++k) {
+    const int rank = k == 0 ? 0 : (k == 1 ? 2 : (k == 2 ? 1 : k));
+    if (k) out += ' ';
+    out += std::to_string(c.count(rank));
+  }
+  out += "\n\n# Vertices\n";
+  const auto& p = c.positions();
+  for (Eigen::Index v = 0; v < p.cols(); ++v) {
+    for (int i = 0; i < n; ++i) {
+      if (i) out += ' ';
+      append_number(out, p(i, v));
+    }
+    out += '\n';
+  }
+  auto append_color = [&](const std::vector<Rgba>& colors, std::uint32_t i) {
+    if (colors.empty()) return;
+    const Rgba& col = colors[i];
+    for (float x : {col.r, col.g, col.b, col.a}) {
+      out += ' ';
+      append_number(out, x);
+    }
+  };
+  out += "\n# Faces\n";
+  for (std::uint32_t f = 0; f < c.count(2); ++f) {
+    auto cyc = c.face_cycle(f);
+    out += std::to_string(cyc.size());
+    for (auto v : cyc) out += ' ' + std::to_string(v);
+    append_color(c.colors(2), f);
+    out += '\n';
+  }
+  for (int k = 3; k < n; ++k) {
+    out += k == 3 ? "\n# Cells\n" : "\n# Rank " + std::to_string(k) + "\n";
+    const Incidence& t = c.boundary(k);
+    for (std::uint32_t x = 0; x < t.size(); ++x) {
+      auto ids = t.ids(x);
+      out += std::to_string(ids.size());
+      for (auto id : ids) out += ' ' + std::to_string(id);
+      append_color(c.colors(k), x);
+      out += '\n';
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_off(std::ostream& out, const Complex& complex) {
+  const std::string text = off_text(complex);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+}
+
+void write_off_file(const std::string& path, const Complex& complex) {
+  write_file_atomically(path, off_text(complex));
+}
+
+}  // namespace cw4d

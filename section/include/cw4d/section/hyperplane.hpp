@@ -1,0 +1,54 @@
+#pragma once
+// Hyperplanes {x : n.x = d} with a unit normal, the one side classification function, and the
+// orthonormal frame in which sections are expressed.
+#include <Eigen/Core>
+
+#include <cstdint>
+
+namespace cw4d {
+
+/// {x in R^n : normal . x = offset} with |normal| = 1, so offset is the signed distance of the
+/// plane from the origin.
+struct Hyperplane {
+  Eigen::VectorXd normal;
+  double offset = 0.0;
+
+  /// The plane {x : (n/|n|) . x = d}: d is the signed distance from the origin along n/|n|.
+  /// \throw InputError when n is zero or not finite, or d is not finite.
+  static Hyperplane from(const Eigen::VectorXd& n, double d);
+  int dim() const { return static_cast<int>(normal.size()); }
+  double signed_distance(const Eigen::VectorXd& x) const { return normal.dot(x) - offset; }
+};
+
+enum class Side : std::int8_t { Negative = -1, On = 0, Positive = 1 };
+
+/// The single decision of which side of a plane a point lies on: On when
+/// |signed_distance| <= tolerance. Every topological branch of the section uses this answer.
+inline Side classify_side(double signed_distance, double tolerance) {
+  if (signed_distance > tolerance) return Side::Positive;
+  if (signed_distance < -tolerance) return Side::Negative;
+  return Side::On;
+}
+
+/// Orthonormal basis (n x (n-1), one column per basis vector) of the hyperplane directions,
+/// chosen deterministically: with j the last index of the largest |normal_j|, the columns are
+/// the images of the other standard axes e_i (i != j, in increasing order) under the Householder
+/// reflection that maps e_j to -sign(normal_j) * normal; the first column is then negated if
+/// needed so that (b_1, ..., b_{n-1}, normal) is right-handed (det = +1). For normal = +e_n the
+/// basis is (e_1, ..., e_{n-1}): cutting with w = d keeps x, y, z.
+Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& unit_normal);
+
+/// A hyperplane with its basis: section coordinates y of a point x of the plane are
+/// y = basis^T (x - offset * normal), and x = offset * normal + basis * y.
+struct HyperplaneFrame {
+  Hyperplane plane;
+  Eigen::MatrixXd basis;
+
+  explicit HyperplaneFrame(const Hyperplane& p);
+  HyperplaneFrame() = default;
+  Eigen::VectorXd origin() const { return plane.offset * plane.normal; }
+  Eigen::VectorXd to_plane(const Eigen::VectorXd& x) const { return basis.transpose() * (x - origin()); }
+  Eigen::VectorXd lift(const Eigen::VectorXd& y) const { return origin() + basis * y; }
+};
+
+}  // namespace cw4d

@@ -1,0 +1,51 @@
+#pragma once
+// The layered hyperplane section of seed 000 (vertices -> edges -> faces -> cells), for complexes
+// of any dimension: cutting a closed complex in R^n gives a closed complex in R^(n-1).
+#include <cstdint>
+#include <vector>
+
+#include "cw4d/complex/complex.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/section/hyperplane.hpp"
+
+namespace cw4d {
+
+/// Where a section vertex comes from.
+struct VertexSource {
+  std::uint32_t element = 0;  ///< model vertex (rank 0) or model edge (rank 1)
+  std::uint8_t rank = 0;      ///< 0: a model vertex on the plane; 1: an edge crossing it
+  double t = 0.0;             ///< for rank 1: position = (1 - t) * tail + t * head
+};
+
+struct Section {
+  /// The section in R^(n-1), coordinates in frame.basis. Closed and outward oriented when the
+  /// model is; facet normals are the model facets' outward normals projected into the plane.
+  Complex complex{3};
+  /// The world-space hyperplane and its basis.
+  HyperplaneFrame frame;
+  /// One entry per section vertex.
+  std::vector<VertexSource> vertex_source;
+  /// source[k][i]: the model element of rank k + 1 whose cut is section element i of rank k
+  /// (k >= 1; source[0] is empty). For a 4D model, source[2][f] is the cell of face f.
+  std::vector<std::vector<std::uint32_t>> source;
+
+  bool empty() const { return complex.count(0) == 0; }
+  /// World-space position of section vertex v (on the hyperplane).
+  Eigen::VectorXd world_position(std::uint32_t v) const {
+    return frame.lift(complex.position(v));
+  }
+};
+
+/// Cuts `model`, placed in the world by x_world = model_to_world(x_model), with a world-space
+/// hyperplane. The plane is moved into model space ((A^T n) . x = d - n . t); only the section's
+/// own vertices are transformed. Degenerate planes (through vertices, containing edges, faces
+/// or cells) give a closed outward surface without duplicate vertices or zero-area faces, or
+/// an empty section: on-plane vertices count as lying on the positive side (the limit of the
+/// plane moved by -epsilon along n); when that leaves nothing, as on the negative side, so a
+/// plane containing a facet returns that facet as a solid. Coincident pieces cancel as chains.
+/// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
+Section section(const Complex& model, const Hyperplane& plane,
+                const AffineTransform& model_to_world);
+Section section(const Complex& model, const Hyperplane& plane);
+
+}  // namespace cw4d

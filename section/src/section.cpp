@@ -1,0 +1,432 @@
+#include "cw4d/section/section.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <unordered_map>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/tolerances.hpp"
+
+namespace cw4d {
+
+namespace {
+
+constexpr std::uint32_t none = 0xffffffffu;
+
+struct Term {
+  std::uint32_t id;
+  int coef;
+};
+
+// Images of the model's elements of one rank: for element i, the signed section elements
+// (terms) its cut consists of, in compressed rows.
+struct ImageTable {
+  std::vector<std::uint32_t> offsets{0};
+  std::vector<Term> terms;
+  void push(std::span<const Term> t) {
+    terms.insert(terms.end(), t.begin(), t.end());
+    offsets.push_back(static_cast<std::uint32_t>(terms.size()));
+  }
+  std::span<const Term> row(std::uint32_t i) const {
+    return {terms.data() + offsets[i], offsets[i + 1] - offsets[i]};
+  }
+};
+
+// Sums equal ids and drops zero coefficients.
+void combine(std::vector<Term>& chain) {
+  std::sort(chain.begin(), chain.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < chain.size();) {
+    std::size_t j = i;
+    int sum = 0;
+    while (j < chain.size() && chain[j].id == chain[i].id) sum += chain[j++].coef;
+    if (sum != 0) chain[out++] = {chain[i].id, sum};
+    i = j;
+  }
+  chain.resize(out);
+}
+
+struct CutResult {
+  Section section;
+  Eigen::MatrixXd model_positions;  // n x V: section vertices in model space
+};
+
+// One pass of the layered algorithm with on-plane vertices counted on side `tie`.
+class Cutter {
+ public:
+  Cutter(const Complex& model, const std::vector<double>& s, const std::vector<Side>& side,
+         int tie, bool degenerate)
+      : m_(model), s_(s), side_(side), tie_(tie), degenerate_(degenerate),
+        n_(model.ambient_dim()), out_(model.ambient_dim() - 1) {}
+
+  CutResult run();
+
+ private:
+  int perturbed(std::uint32_t v) const {
+    return side_[v] == Side::On ? tie_ : static_cast<int>(side_[v]);
+  }
+  std::uint32_t add_vertex(const Eigen::VectorXd& x, VertexSource src) {
+    pos_.insert(pos_.end(), x.data(), x.data() + x.size());
+    vsrc_.push_back(src);
+    return static_cast<std::uint32_t>(vsrc_.size() - 1);
+  }
+  void cut_edges();
+  void cut_rank(int k);
+  // Output element of rank r from a boundary chain; returns terms referencing it.
+  void emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image);
+  void emit_faces(std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image);
+  void emit_higher(int r, std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image);
+  std::uint32_t dedupe(int r, std::vector<Term>& row, std::uint32_t source, int* rel_sign);
+  CutResult finish(const std::vector<Term>& top_facets, const std::vector<Term>& top_solids);
+
+  const Complex& m_;
+  const std::vector<double>& s_;
+  const std::vector<Side>& side_;
+  int tie_;
+  bool degenerate_;
+  int n_;
+  Complex out_;
+  std::vector<double> pos_;  // model-space positions of section vertices, n_ per vertex
+  std::vector<VertexSource> vsrc_;
+  std::vector<std::vector<std::uint32_t>> src_;  // src_[r]: model element of rank r+1
+  std::vector<ImageTable> images_;               // images_[k]: images of model rank k
+  std::unordered_map<std::uint64_t, std::uint32_t> edge_index_;
+  std::vector<std::map<std::vector<std::uint32_t>, std::uint32_t>> row_index_;
+};
+
+void Cutter::cut_edges() {
+  const std::size_t ne = m_.count(1);
+  ImageTable& img = images_[1];
+  img.offsets.reserve(ne + 1);
+  std::vector<std::uint32_t> on_vertex(degenerate_ ? m_.count(0) : 0, none);
+  const auto& p = m_.positions();
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    const auto [a, b] = m_.edge(e);
+    const int pa = perturbed(a), pb = perturbed(b);
+    if (pa == pb) {
+      img.push({});
+      continue;
+    }
+    const int coef = pa < 0 ? 1 : -1;  // +1 when the edge runs from the negative side to the positive
+    std::uint32_t v;
+    if (side_[a] == Side::On || side_[b] == Side::On) {
+      const std::uint32_t on = side_[a] == Side::On ? a : b;
+      if (on_vertex[on] == none) on_vertex[on] = add_vertex(p.col(on), {on, 0, 0.0});
+      v = on_vertex[on];
+    } else {
+      const double t = s_[a] / (s_[a] - s_[b]);
+      v = add_vertex((1.0 - t) * p.col(a) + t * p.col(b), {e, 1, t});
+    }
+    const Term term{v, coef};
+    img.push({&term, 1});
+  }
+}
+
+std::uint32_t Cutter::dedupe(int r, std::vector<Term>& row, std::uint32_t source, int* rel) {
+  Incidence& table = out_.boundary_mut(r);
+  std::vector<std::uint32_t> ids(row.size());
+  std::vector<std::int8_t> signs(row.size());
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    ids[i] = row[i].id;
+    signs[i] = static_cast<std::int8_t>(row[i].coef);
+  }
+  *rel = 1;
+  if (degenerate_) {
+    std::vector<std::uint32_t> key = ids;
+    std::sort(key.begin(), key.end());
+    if (static_cast<int>(row_index_.size()) <= r) row_index_.resize(r + 1);
+    auto [it, fresh] = row_index_[r].try_emplace(std::move(key), static_cast<std::uint32_t>(table.size()));
+    if (!fresh) {
+      // Same boundary set: the same element, possibly with the opposite orientation.
+      const std::uint32_t existing = it->second;
+      auto eids = table.ids(existing);
+      auto esigns = table.signs(existing);
+      for (std::size_t i = 0; i < eids.size(); ++i)
+        if (eids[i] == ids[0]) *rel = esigns[i] == signs[0] ? 1 : -1;
+      return existing;
+    }
+  }
+  if (static_cast<int>(src_.size()) <= r) src_.resize(r + 1);
+  src_[r].push_back(source);
+  return table.add_row(ids, signs);
+}
+
+void Cutter::emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image) {
+  auto make_edge = [&](std::uint32_t tail, std::uint32_t head) {
+    int rel = 1;
+    std::uint32_t id;
+    if (degenerate_) {
+      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(tail, head)) << 32) |
+                                std::max(tail, head);
+      auto [it, fresh] = edge_index_.try_emplace(key, static_cast<std::uint32_t>(out_.count(1)));
+      if (fresh) {
+        id = out_.add_edge(tail, head);
+        src_[1].push_back(source);
+      } else {
+        id = it->second;
+        rel = out_.edge(id)[0] == tail ? 1 : -1;
+      }
+    } else {
+      id = out_.add_edge(tail, head);
+      src_[1].push_back(source);
+    }
+    image.push_back({id, rel});
+  };
+  if (chain.size() == 2 && chain[0].coef == -chain[1].coef && std::abs(chain[0].coef) == 1) {
+    const bool first_is_tail = chain[0].coef < 0;
+    make_edge(first_is_tail ? chain[0].id : chain[1].id, first_is_tail ? chain[1].id : chain[0].id);
+    return;
+  }
+  // A non-convex face cut in more than two points: pair the points along the cut line
+  // (even-odd), each segment running from its -1 end to its +1 end.
+  std::vector<Term> pts;
+  for (const Term& t : chain)
+    for (int i = 0; i < std::abs(t.coef); ++i) pts.push_back({t.id, t.coef > 0 ? 1 : -1});
+  if (pts.size() < 2) return;
+  auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::VectorXd>(&pos_[v * n_], n_); };
+  std::size_t far = 1;
+  double best = -1.0;
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    const double d = (at(pts[i].id) - at(pts[0].id)).squaredNorm();
+    if (d > best) best = d, far = i;
+  }
+  const Eigen::VectorXd dir = at(pts[far].id) - at(pts[0].id);
+  std::stable_sort(pts.begin(), pts.end(), [&](const Term& a, const Term& b) {
+    return at(a.id).dot(dir) < at(b.id).dot(dir);
+  });
+  for (std::size_t i = 0; i + 1 < pts.size(); i += 2) {
+    if (pts[i].id == pts[i + 1].id) continue;
+    const bool first_is_tail = pts[i].coef < 0;
+    make_edge(first_is_tail ? pts[i].id : pts[i + 1].id, first_is_tail ? pts[i + 1].id : pts[i].id);
+  }
+}
+
+void Cutter::emit_faces(std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image) {
+  // Chain the signed edges into closed loops; each loop becomes one face in cycle order.
+  struct Step {
+    std::uint32_t tail, head, edge;
+    int sign;
+    bool used;
+  };
+  std::vector<Step> steps;
+  for (const Term& t : chain) {
+    const auto e = out_.edge(t.id);
+    const int sign = t.coef > 0 ? 1 : -1;
+    for (int i = 0; i < std::abs(t.coef); ++i)
+      steps.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
+  }
+  std::sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+  auto find_from = [&](std::uint32_t tail) -> Step* {
+    auto it = std::lower_bound(steps.begin(), steps.end(), tail,
+                               [](const Step& s, std::uint32_t v) { return s.tail < v; });
+    for (; it != steps.end() && it->tail == tail; ++it)
+      if (!it->used) return &*it;
+    return nullptr;
+  };
+  std::vector<Term> loop;
+  for (std::size_t start = 0; start < steps.size(); ++start) {
+    if (steps[start].used) continue;
+    loop.clear();
+    Step* cur = &steps[start];
+    while (cur && !cur->used) {
+      cur->used = true;
+      loop.push_back({cur->edge, cur->sign});
+      if (cur->head == steps[start].tail) break;
+      cur = find_from(cur->head);
+    }
+    if (loop.size() < 3) continue;  // an open or degenerate remnant cannot bound a polygon
+    int rel = 1;
+    const std::uint32_t id = dedupe(2, loop, source, &rel);
+    image.push_back({id, rel});
+  }
+}
+
+void Cutter::emit_higher(int r, std::vector<Term>& chain, std::uint32_t source,
+                         std::vector<Term>& image) {
+  int rel = 1;
+  const std::uint32_t id = dedupe(r, chain, source, &rel);
+  image.push_back({id, rel});
+}
+
+void Cutter::cut_rank(int k) {
+  const Incidence& table = m_.boundary(k);
+  const ImageTable& below = images_[k - 1];
+  ImageTable& img = images_[k];
+  img.offsets.reserve(table.size() + 1);
+  std::vector<Term> chain, image;
+  for (std::uint32_t x = 0; x < table.size(); ++x) {
+    chain.clear();
+    image.clear();
+    auto ids = table.ids(x);
+    auto signs = table.signs(x);
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      for (const Term& t : below.row(ids[i])) chain.push_back({t.id, -signs[i] * t.coef});
+    combine(chain);
+    if (!chain.empty()) {
+      if (k == 2)
+        emit_edges(chain, x, image);
+      else if (k == 3)
+        emit_faces(chain, x, image);
+      else
+        emit_higher(k - 1, chain, x, image);
+    }
+    img.push(image);
+  }
+}
+
+CutResult Cutter::run() {
+  const int top = m_.top_rank();
+  images_.resize(top + 1);
+  src_.resize(std::max(2, top));
+  out_.boundary_mut(std::max(1, std::min(top - 1, n_ - 1)));
+  images_[0].offsets.assign(m_.count(0) + 1, 0);
+  if (top >= 1) cut_edges();
+  for (int k = 2; k <= top; ++k) cut_rank(k);
+  // The facets of the section are the cuts of the model's facets; coincident pieces cancel.
+  std::vector<Term> facets, solids;
+  const int fr = n_ - 1;
+  if (fr >= 1 && fr <= top) {
+    for (std::uint32_t f = 0; f < m_.count(fr); ++f)
+      for (const Term& t : images_[fr].row(f)) facets.push_back(t);
+    if (degenerate_) combine(facets);
+  }
+  if (n_ <= top)
+    for (std::uint32_t s = 0; s < m_.count(n_); ++s)
+      for (const Term& t : images_[n_].row(s)) solids.push_back(t);
+  return finish(facets, solids);
+}
+
+CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term>& solids) {
+  const int on = n_ - 1;      // dimension of the section
+  const int ofr = on - 1;     // rank of the section's facets
+  const int otop = out_.top_rank();
+  Section sec;
+  // Keep what the surviving facets (and solids) reach, drop the rest, renumber.
+  std::vector<std::vector<char>> keep(otop + 1);
+  keep[0].assign(vsrc_.size(), 0);
+  for (int r = 1; r <= otop; ++r) keep[r].assign(out_.count(r), 0);
+  std::vector<int> facet_flip(ofr >= 0 && ofr <= otop ? out_.count(ofr) : 0, 0);
+  for (const Term& t : facets) {
+    if (ofr < 0 || ofr > otop) break;
+    keep[ofr][t.id] = 1;
+    facet_flip[t.id] = t.coef < 0;
+  }
+  for (const Term& t : solids)
+    if (on <= otop) keep[on][t.id] = 1;
+  for (int r = otop; r >= 1; --r) {
+    const Incidence& table = out_.boundary(r);
+    for (std::uint32_t x = 0; x < table.size(); ++x)
+      if (keep[r][x])
+        for (auto id : table.ids(x)) keep[r - 1][id] = 1;
+  }
+  std::vector<std::vector<std::uint32_t>> remap(otop + 1);
+  for (int r = 0; r <= otop; ++r) {
+    remap[r].assign(keep[r].size(), none);
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < keep[r].size(); ++i)
+      if (keep[r][i]) remap[r][i] = next++;
+  }
+  Complex result(on);
+  Eigen::MatrixXd positions(n_, static_cast<Eigen::Index>(std::count(keep[0].begin(), keep[0].end(), 1)));
+  for (std::size_t v = 0; v < keep[0].size(); ++v)
+    if (keep[0][v]) {
+      positions.col(remap[0][v]) = Eigen::Map<const Eigen::VectorXd>(&pos_[v * n_], n_);
+      sec.vertex_source.push_back(vsrc_[v]);
+    }
+  sec.source.resize(otop + 1);
+  std::vector<std::uint32_t> ids;
+  for (int r = 1; r <= otop; ++r) {
+    const Incidence& table = out_.boundary(r);
+    Incidence& dst = result.boundary_mut(r);
+    for (std::uint32_t x = 0; x < table.size(); ++x) {
+      if (!keep[r][x]) continue;
+      auto src_ids = table.ids(x);
+      ids.assign(src_ids.begin(), src_ids.end());
+      for (auto& id : ids) id = remap[r - 1][id];
+      dst.add_row(ids, table.signs(x));
+      sec.source[r].push_back(src_[r][x]);
+    }
+  }
+  for (std::size_t f = 0; f < facet_flip.size(); ++f)
+    if (facet_flip[f] && keep[ofr][f]) result.flip(ofr, remap[ofr][f]);
+  sec.complex = std::move(result);
+  return {std::move(sec), std::move(positions)};
+}
+
+}  // namespace
+
+Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+  const int n = model.ambient_dim();
+  if (n < 2) throw InputError("section needs a model of dimension >= 2");
+  if (plane.dim() != n)
+    throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a model in R^" +
+                     std::to_string(n));
+  if (xf.dim() != n)
+    throw InputError("transform of R^" + std::to_string(xf.dim()) + " for a model in R^" +
+                     std::to_string(n));
+  // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
+  const Eigen::VectorXd nm = xf.linear().transpose() * plane.normal;
+  const double dm = plane.offset - plane.normal.dot(xf.translation());
+  const double scale = nm.norm() * max_radius(model) + std::abs(dm);
+  const double tolerance = tol::plane_side_rel * (scale > 0.0 ? scale : 1.0);
+  const std::size_t nv = model.count(0);
+  std::vector<double> s(nv);
+  std::vector<Side> side(nv);
+  bool any_on = false, any_pos = false, any_neg = false;
+  const auto& p = model.positions();
+  for (std::size_t v = 0; v < nv; ++v) {
+    s[v] = nm.dot(p.col(static_cast<Eigen::Index>(v))) - dm;
+    side[v] = classify_side(s[v], tolerance);
+    any_on |= side[v] == Side::On;
+    any_pos |= side[v] == Side::Positive;
+    any_neg |= side[v] == Side::Negative;
+  }
+  CutResult cut;
+  cut.section.complex = Complex(n - 1);
+  cut.model_positions.resize(n, 0);
+  if ((any_pos && any_neg) || any_on) {
+    cut = Cutter(model, s, side, +1, any_on).run();
+    if (cut.model_positions.cols() == 0 && any_on) cut = Cutter(model, s, side, -1, true).run();
+  }
+  Section sec = std::move(cut.section);
+  const Eigen::MatrixXd& model_pos = cut.model_positions;
+  sec.frame = HyperplaneFrame(plane);
+  if (sec.source.empty()) sec.source.resize(1);
+  // Section vertices: model -> world -> plane coordinates.
+  Eigen::MatrixXd world = (xf.linear() * model_pos).colwise() + xf.translation();
+  Eigen::MatrixXd coords = sec.frame.basis.transpose() * (world.colwise() - sec.frame.origin());
+  sec.complex.set_positions(std::move(coords));
+  // Orientation: the cut is oriented in model space; a reflecting transform reverses it.
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(xf.linear());
+  const int ofr = n - 2;
+  if (lu.determinant() < 0.0 && ofr >= 1)
+    for (std::uint32_t f = 0; f < sec.complex.count(ofr); ++f) sec.complex.flip(ofr, f);
+  // Facet normals: the source facets' outward normals, moved to world space and projected.
+  if (ofr >= 1 && sec.complex.count(ofr) > 0) {
+    const Eigen::MatrixXd inv_t = lu.inverse().transpose();
+    Eigen::MatrixXd normals(n - 1, sec.complex.count(ofr));
+    for (std::uint32_t f = 0; f < sec.complex.count(ofr); ++f) {
+      Eigen::VectorXd nrm = Eigen::VectorXd::Zero(n - 1);
+      if (model.has_facet_normals()) {
+        const Eigen::VectorXd w = inv_t * model.facet_normals().col(sec.source[ofr][f]);
+        nrm = sec.frame.basis.transpose() * w;
+      }
+      if (nrm.norm() < 1e-9) nrm = facet_area_vector(sec.complex, f);
+      const double len = nrm.norm();
+      normals.col(f) = len > 0.0 ? Eigen::VectorXd(nrm / len) : nrm;
+    }
+    sec.complex.set_facet_normals(std::move(normals));
+  }
+  return sec;
+}
+
+Section section(const Complex& model, const Hyperplane& plane) {
+  return section(model, plane, AffineTransform::identity(model.ambient_dim()));
+}
+
+}  // namespace cw4d
