@@ -32,8 +32,11 @@ void simplices_rec(const Complex& c, int rank, std::uint32_t i, std::vector<std:
   auto signs = table.signs(i);
   for (std::size_t j = 0; j < ids.size(); ++j) {
     const int sigma = signs[j];
+    // A cone from the apex over a boundary element that contains the apex is flat: skip it
+    // whole (checking only the sub-simplices would keep flat slivers of rounding noise).
+    const auto verts = c.vertices_of(rank - 1, ids[j]);
+    if (std::binary_search(verts.begin(), verts.end(), apex)) continue;
     simplices_rec(c, rank - 1, ids[j], buf, [&](std::span<const std::uint32_t> sub, int s) {
-      if (std::find(sub.begin(), sub.end(), apex) != sub.end()) return;
       std::vector<std::uint32_t> cone;
       cone.reserve(sub.size() + 1);
       cone.push_back(apex);

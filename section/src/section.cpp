@@ -401,11 +401,21 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   Eigen::MatrixXd world = (xf.linear() * model_pos).colwise() + xf.translation();
   Eigen::MatrixXd coords = sec.frame.basis.transpose() * (world.colwise() - sec.frame.origin());
   sec.complex.set_positions(std::move(coords));
-  // Orientation: the cut is oriented in model space; a reflecting transform reverses it.
+  // Orientation. The cut of a facet C carries the orientation "(m, frame) positive in C" (m
+  // the plane normal projected into C), and the cut's boundary is -sum(sign * cut of child).
+  // Measured against the section coordinates, whose frame is (b_1..b_{n-1}) with
+  // det(b_1..b_{n-1}, n) = +1, those cuts face outward for even n and inward for odd n.
+  // A reflecting model transform reverses everything once more.
   Eigen::FullPivLU<Eigen::MatrixXd> lu(xf.linear());
   const int ofr = n - 2;
-  if (lu.determinant() < 0.0 && ofr >= 1)
+  const bool reflect = lu.determinant() < 0.0;
+  if ((reflect != (n % 2 == 1)) && ofr >= 1)
     for (std::uint32_t f = 0; f < sec.complex.count(ofr); ++f) sec.complex.flip(ofr, f);
+  if (sec.complex.top_rank() >= n - 1 && n - 1 >= 2) {
+    Incidence& solids = sec.complex.boundary_mut(n - 1);
+    for (std::uint32_t i = 0; i < solids.size(); ++i)
+      for (auto& sign : solids.signs_mut(i)) sign = 1;
+  }
   // Facet normals: the source facets' outward normals, moved to world space and projected.
   if (ofr >= 1 && sec.complex.count(ofr) > 0) {
     const Eigen::MatrixXd inv_t = lu.inverse().transpose();

@@ -12,8 +12,8 @@ namespace cw4d {
 
 /// Calls f(vertices, sign) for the oriented k-simplices (k + 1 vertex ids) of a decomposition of
 /// element i of rank k (k >= 1): faces fan out from their first vertex, higher elements cone
-/// from their first vertex over the simplices of their boundary. Degenerate cones (apex on the
-/// boundary element) are skipped. The signed sum of the simplices is the element as a chain.
+/// from their first vertex over the simplices of the boundary elements that do not contain it
+/// (the others would give flat cones). The signed sum of the simplices is the element as a chain.
 void for_each_simplex(const Complex& complex, int rank, std::uint32_t i,
                       const std::function<void(std::span<const std::uint32_t>, int)>& f);
 

@@ -1,0 +1,464 @@
+// Property tests of the layered hyperplane section over every built-in and the convex regular
+// polychora of Miratope, with random and deliberately degenerate hyperplanes. Oracles: the
+// B-spline cross-section formula (support/oracle.hpp), the closed form for cubes, brute force.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "cw4d/section/section.hpp"
+#include "support/oracle.hpp"
+
+using namespace cw4d;
+
+namespace {
+
+struct Shape {
+  std::string name;
+  Complex complex;
+};
+
+// Named groups of test shapes (geometry-central's fixture habit).
+const std::vector<Shape>& shapes_4d() {
+  static const std::vector<Shape> shapes = [] {
+    std::vector<Shape> s;
+    for (std::string spec : {"5-cell", "tesseract", "16-cell", "duoprism:3,4", "duoprism:5,7",
+                             "duoprism:12,9", "prism:simplex:3", "prism:orthoplex:3"})
+      s.push_back({spec, load_model(spec)});
+    const std::string dir = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/regular/";
+    for (std::string file : {"Icositetrachoron", "Hexacosichoron", "Hecatonicosachoron"})
+      s.push_back({file, read_off_file(dir + file + ".off")});
+    return s;
+  }();
+  return shapes;
+}
+
+const std::vector<Shape>& shapes_other_dims() {
+  static const std::vector<Shape> shapes = [] {
+    std::vector<Shape> s;
+    for (std::string spec : {"cube:3", "simplex:3", "orthoplex:3", "prism:polygon:7", "cube:5",
+                             "simplex:5", "orthoplex:5", "prism:tesseract"})
+      s.push_back({spec, load_model(spec)});
+    return s;
+  }();
+  return shapes;
+}
+
+Eigen::VectorXd random_unit(std::mt19937& rng, int n) {
+  std::normal_distribution<double> g;
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v(i) = g(rng);
+  return v.normalized();
+}
+
+// Range of u . x over the model's vertices.
+std::pair<double, double> extent(const Complex& c, const Eigen::VectorXd& u) {
+  const Eigen::RowVectorXd h = u.transpose() * c.positions();
+  return {h.minCoeff(), h.maxCoeff()};
+}
+
+double diameter(const Complex& c) { return 2.0 * max_radius(c) + 1e-300; }
+
+// Every property a section must have, checked against the model and the oracle.
+void check_section(const Complex& model, const Hyperplane& plane, const Section& s,
+                   double expected_volume, const std::string& what) {
+  INFO(what);
+  const int n = model.ambient_dim();
+  const double scale = diameter(model);
+  if (s.empty()) {
+    CHECK(std::abs(expected_volume) <= 1e-9 * std::pow(scale, n - 1));
+    return;
+  }
+  const Complex& c = s.complex;
+  REQUIRE(c.ambient_dim() == n - 1);
+  const ValidationReport report = validate(c);
+  INFO(report.summary());
+  REQUIRE(report.ok());  // closed, each ridge in two facets with opposite signs, outward, planar
+  const double volume = signed_volume(c);
+  CHECK(volume == Approx(expected_volume).epsilon(1e-9).margin(1e-12 * std::pow(scale, n - 1)));
+  if (n == 4) {
+    // A closed 2-manifold of genus 0: V - E + F = 2.
+    CHECK(static_cast<long>(c.count(0)) - static_cast<long>(c.count(1)) +
+              static_cast<long>(c.count(2)) == 2);
+  }
+  // Every vertex lies on the plane and on its source edge (or is its source vertex).
+  const auto& mp = model.positions();
+  for (std::uint32_t v = 0; v < c.count(0); ++v) {
+    const Eigen::VectorXd x = s.world_position(v);
+    REQUIRE(std::abs(plane.signed_distance(x)) <= 1e-9 * scale);
+    const VertexSource& src = s.vertex_source[v];
+    Eigen::VectorXd expect;
+    if (src.rank == 0) {
+      expect = mp.col(src.element);
+    } else {
+      const auto e = model.edge(src.element);
+      REQUIRE(src.t > 0.0);
+      REQUIRE(src.t < 1.0);
+      expect = (1.0 - src.t) * mp.col(e[0]) + src.t * mp.col(e[1]);
+    }
+    REQUIRE((x - expect).norm() <= 1e-9 * scale);
+  }
+  // No duplicate vertices.
+  for (std::uint32_t a = 0; a < c.count(0); ++a)
+    for (std::uint32_t b = a + 1; b < c.count(0); ++b)
+      REQUIRE((c.position(a) - c.position(b)).norm() > 1e-9 * scale);
+  // Facets: no zero volume, convex solid, normal = geometric normal, lies in its source facet.
+  const int fr = n - 2;
+  REQUIRE(c.has_facet_normals());
+  for (std::uint32_t f = 0; f < c.count(fr); ++f) {
+    const Eigen::VectorXd area = facet_area_vector(c, f);
+    // Not zero: the smallest legitimate facet comes from a plane one tolerance (1e-10 * scale)
+    // away from a vertex.
+    REQUIRE(area.norm() > 1e-20 * std::pow(scale, n - 2));
+    const Eigen::VectorXd nrm = c.facet_normals().col(f);
+    REQUIRE(nrm.dot(area.normalized()) == Approx(1.0).epsilon(1e-9));
+    const std::uint32_t here = c.first_vertex(fr, f);
+    for (std::uint32_t v = 0; v < c.count(0); ++v)
+      REQUIRE(nrm.dot(c.position(v) - c.position(here)) <= 1e-9 * scale);
+    const std::uint32_t cell = s.source[fr][f];
+    const Eigen::VectorXd cn = model.facet_normals().col(cell);
+    const double level = cn.dot(mp.col(model.first_vertex(n - 1, cell)));
+    for (auto v : c.vertices_of(fr, f))
+      REQUIRE(std::abs(cn.dot(s.world_position(v)) - level) <= 1e-9 * scale);
+  }
+}
+
+void check_plane(const Shape& shape, const Hyperplane& plane, const std::string& what) {
+  const Section s = section(shape.complex, plane);
+  const double expected = test::bspline_section_volume(shape.complex, plane.normal, plane.offset);
+  check_section(shape.complex, plane, s, expected, shape.name + ": " + what);
+}
+
+std::string describe(const Hyperplane& p) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "n = (" << p.normal.transpose() << "), d = " << p.offset;
+  return out.str();
+}
+
+}  // namespace
+
+TEST_CASE("oracle: the B-spline section volume matches the closed form for cubes") {
+  std::mt19937 rng(7);
+  for (int n = 3; n <= 5; ++n) {
+    const Complex cube = make_cube(n);
+    for (int trial = 0; trial < 50; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, n);
+      const auto [lo, hi] = extent(cube, u);
+      const double t = lo + (hi - lo) * std::uniform_real_distribution<double>(0.02, 0.98)(rng);
+      CHECK(test::bspline_section_volume(cube, u, t) ==
+            Approx(test::cube_section_volume(u, t)).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("section: the tesseract cut by (1,1,1,1), 0 is a regular octahedron") {
+  const Complex t = load_model("tesseract");
+  const Section s = section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 0.0));
+  REQUIRE(s.complex.fvector() == std::vector<std::size_t>{6, 12, 8});
+  CHECK(signed_volume(s.complex) == Approx(32.0 / 3.0).epsilon(1e-12));
+  CHECK(validate(s.complex).ok());
+  double edge = -1;
+  for (std::uint32_t e = 0; e < 12; ++e) {
+    const auto [a, b] = s.complex.edge(e);
+    const double len = (s.complex.position(a) - s.complex.position(b)).norm();
+    if (edge < 0) edge = len;
+    CHECK(len == Approx(edge).epsilon(1e-12));
+  }
+  for (std::uint32_t v = 0; v < 6; ++v) {
+    CHECK(s.complex.position(v).norm() == Approx(2.0).epsilon(1e-12));  // e.g. (1,1,-1,-1)
+    CHECK(s.vertex_source[v].rank == 0);  // it passes through vertices only
+  }
+  for (std::uint32_t f = 0; f < 8; ++f) CHECK(s.complex.boundary(2).row_size(f) == 3);
+}
+
+TEST_CASE("section: random hyperplanes over every 4D shape") {
+  std::mt19937 rng(20261122);
+  for (const Shape& shape : shapes_4d()) {
+    const int trials = shape.complex.count(0) > 200 ? 40 : 200;
+    for (int trial = 0; trial < trials; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, 4);
+      const auto [lo, hi] = extent(shape.complex, u);
+      const double d =
+          std::uniform_real_distribution<double>(lo - 0.1 * (hi - lo), hi + 0.1 * (hi - lo))(rng);
+      const Hyperplane plane = Hyperplane::from(u, d);
+      check_plane(shape, plane, describe(plane));
+    }
+  }
+}
+
+TEST_CASE("section: random hyperplanes in dimensions 3 and 5") {
+  std::mt19937 rng(35);
+  for (const Shape& shape : shapes_other_dims()) {
+    const int n = shape.complex.ambient_dim();
+    for (int trial = 0; trial < 100; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, n);
+      const auto [lo, hi] = extent(shape.complex, u);
+      const double d = std::uniform_real_distribution<double>(lo, hi)(rng);
+      const Hyperplane plane = Hyperplane::from(u, d);
+      check_plane(shape, plane, describe(plane));
+    }
+  }
+}
+
+TEST_CASE("section: cubes of dimension 3 to 6 against the closed form") {
+  std::mt19937 rng(3);
+  for (int n = 3; n <= 6; ++n) {
+    const Complex cube = make_cube(n);
+    for (int trial = 0; trial < 40; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, n);
+      const double d = std::uniform_real_distribution<double>(-1.0, 1.0)(rng);
+      const Section s = section(cube, Hyperplane::from(u, d));
+      INFO("n = " << n << ", u = " << u.transpose() << ", d = " << d);
+      CHECK(signed_volume(s.complex) == Approx(test::cube_section_volume(u, d)).epsilon(1e-9));
+      CHECK(validate(s.complex).ok());
+    }
+  }
+}
+
+// --- degenerate families: each pins planes that pass through lower-dimensional elements ----
+
+namespace {
+
+// A random unit vector orthogonal to the given directions (columns).
+Eigen::VectorXd random_orthogonal(std::mt19937& rng, const Eigen::MatrixXd& dirs) {
+  const int n = static_cast<int>(dirs.rows());
+  Eigen::VectorXd v = random_unit(rng, n);
+  if (dirs.cols() > 0) {
+    // The span of the directions, ignoring the rounding noise of coordinates read from files.
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(dirs, Eigen::ComputeFullU);
+    const auto& sv = svd.singularValues();
+    Eigen::Index rank = 0;
+    while (rank < sv.size() && sv(rank) > 1e-6 * sv(0)) ++rank;
+    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
+    v -= basis * (basis.transpose() * v);
+  }
+  return v.normalized();
+}
+
+// Directions spanned by element i of a rank (differences of its vertices).
+Eigen::MatrixXd spanning(const Complex& c, int rank, std::uint32_t i) {
+  const auto verts = c.vertices_of(rank, i);
+  Eigen::MatrixXd d(c.ambient_dim(), verts.size() - 1);
+  for (std::size_t k = 1; k < verts.size(); ++k) d.col(k - 1) = c.position(verts[k]) - c.position(verts[0]);
+  return d;
+}
+
+void degenerate_family(int rank, int trials_per_shape, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  for (const Shape& shape : shapes_4d()) {
+    const Complex& c = shape.complex;
+    const int trials = c.count(0) > 200 ? trials_per_shape / 4 : trials_per_shape;
+    for (int trial = 0; trial < trials; ++trial) {
+      const auto id = std::uniform_int_distribution<std::uint32_t>(
+          0, static_cast<std::uint32_t>(c.count(rank) - 1))(rng);
+      const Eigen::MatrixXd dirs = rank == 0 ? Eigen::MatrixXd(4, 0) : spanning(c, rank, id);
+      const Eigen::VectorXd u = random_orthogonal(rng, dirs);
+      const double d = u.dot(c.position(c.first_vertex(rank, id)));
+      const Hyperplane plane = Hyperplane::from(u, d);
+      check_plane(shape, plane,
+                  "plane containing rank-" + std::to_string(rank) + " element " +
+                      std::to_string(id) + ", " + describe(plane));
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("degenerate: planes through a vertex") { degenerate_family(0, 150, 101); }
+TEST_CASE("degenerate: planes containing an edge") { degenerate_family(1, 150, 102); }
+TEST_CASE("degenerate: planes containing a face") { degenerate_family(2, 150, 103); }
+
+TEST_CASE("degenerate: planes containing a cell give that cell as a solid") {
+  for (const Shape& shape : shapes_4d()) {
+    const Complex& c = shape.complex;
+    const std::uint32_t step = c.count(3) > 50 ? 17 : 1;
+    for (std::uint32_t cell = 0; cell < c.count(3); cell += step) {
+      for (double flip : {1.0, -1.0}) {
+        // The facet's own hyperplane, approached from either side (normal +N or -N).
+        const Eigen::VectorXd u = flip * c.facet_normals().col(cell);
+        const double d = u.dot(c.position(c.first_vertex(3, cell)));
+        const Hyperplane plane = Hyperplane::from(u, d);
+        const Section s = section(c, plane);
+        INFO(shape.name << " cell " << cell << (flip > 0 ? " (+N)" : " (-N)"));
+        const auto verts = c.vertices_of(3, cell);
+        REQUIRE(s.complex.count(0) == verts.size());
+        REQUIRE(s.complex.count(2) == c.boundary(3).row_size(cell));
+        check_section(c, plane, s, element_volume(c, 3, cell), shape.name + " cell");
+      }
+    }
+  }
+}
+
+TEST_CASE("degenerate: grid-snapped planes on the tesseract, 16-cell and 24-cell") {
+  // Small integer normals and offsets on a coarse grid hit vertices, edges and faces at once.
+  for (const Shape& shape : shapes_4d()) {
+    if (shape.name != "tesseract" && shape.name != "16-cell" && shape.name != "Icositetrachoron")
+      continue;
+    int planes = 0;
+    for (int a = -1; a <= 2; ++a)
+      for (int b = -1; b <= 1; ++b)
+        for (int cc = 0; cc <= 1; ++cc)
+          for (int w = 0; w <= 2; ++w) {
+            Eigen::Vector4d nrm(a, b, cc, w);
+            if (nrm.isZero()) continue;
+            const double len = nrm.norm();
+            for (int k = -4; k <= 4; ++k) {
+              // offsets chosen so that n.x = k/2 exactly for integer n (before normalizing)
+              const Hyperplane plane{nrm / len, 0.5 * k / len};
+              const auto [lo, hi] = extent(shape.complex, plane.normal);
+              const double mid = 0.5 * (lo + hi);
+              double expected = test::bspline_section_volume(shape.complex, plane.normal, plane.offset);
+              // A plane holding a whole facet sits on a jump of the oracle: take the inner limit.
+              const double h = 1e-9 * (hi - lo);
+              if (std::abs(plane.offset - hi) < h || std::abs(plane.offset - lo) < h) {
+                const double inward = plane.offset > mid ? -1e-7 : 1e-7;
+                expected = test::bspline_section_volume(shape.complex, plane.normal,
+                                                        plane.offset + inward);
+                const Section s = section(shape.complex, plane);
+                if (!s.empty()) {
+                  check_section(shape.complex, plane, s, signed_volume(s.complex),
+                                shape.name + " supporting " + describe(plane));
+                  CHECK(signed_volume(s.complex) == Approx(expected).epsilon(1e-5));
+                }
+                continue;
+              }
+              check_plane(shape, plane, "grid " + describe(plane));
+              ++planes;
+            }
+          }
+    CHECK(planes > 400);
+  }
+}
+
+TEST_CASE("section: planes that miss or only touch the model give an empty section") {
+  const Complex t = load_model("tesseract");
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.5)).empty());
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 2.0)).empty());   // a vertex
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 0), std::sqrt(3.0))).empty());  // an edge
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 0, 0), std::sqrt(2.0))).empty());  // a face
+  const Complex c16 = load_model("16-cell");
+  CHECK(section(c16, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.0)).empty());  // a vertex
+}
+
+TEST_CASE("section: the faces are exactly the cuts of the cells that straddle the plane") {
+  std::mt19937 rng(11);
+  for (const Shape& shape : shapes_4d()) {
+    const Complex& c = shape.complex;
+    for (int trial = 0; trial < 20; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, 4);
+      const auto [lo, hi] = extent(c, u);
+      const double d = std::uniform_real_distribution<double>(lo, hi)(rng);
+      const Section s = section(c, Hyperplane::from(u, d));
+      std::vector<std::uint32_t> straddling;  // brute force over the cells' vertices
+      for (std::uint32_t cell = 0; cell < c.count(3); ++cell) {
+        bool below = false, above = false;
+        for (auto v : c.vertices_of(3, cell)) {
+          below |= u.dot(c.position(v)) < d;
+          above |= u.dot(c.position(v)) > d;
+        }
+        if (below && above) straddling.push_back(cell);
+      }
+      std::vector<std::uint32_t> sources = s.source[2];
+      std::sort(sources.begin(), sources.end());
+      CHECK(sources == straddling);
+    }
+  }
+}
+
+TEST_CASE("section: cutting a transformed model equals cutting with the transformed plane") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-3.14159, 3.14159), shift(-0.5, 0.5);
+  const char* planes[] = {"xy", "xz", "xw", "yz", "yw", "zw"};
+  for (const Shape& shape : shapes_4d()) {
+    for (int trial = 0; trial < 10; ++trial) {
+      AffineTransform xf(4);
+      for (const char* p : planes) {
+        const auto [i, j] = parse_rotation_plane(p);
+        xf = AffineTransform::rotation(4, i, j, angle(rng)) * xf;
+      }
+      if (trial % 3 == 1) xf = AffineTransform::scale(Eigen::Vector4d(1.5, 0.7, 1.0, 1.2)) * xf;
+      if (trial % 3 == 2) xf = AffineTransform::scale(Eigen::Vector4d(-1, 1, 1, 1)) * xf;  // mirror
+      xf = AffineTransform::translation(Eigen::Vector4d(shift(rng), shift(rng), shift(rng), shift(rng))) * xf;
+      const Complex moved = transformed(shape.complex, xf);
+      const Eigen::VectorXd u = random_unit(rng, 4);
+      const auto [lo, hi] = extent(moved, u);
+      const Hyperplane plane = Hyperplane::from(u, std::uniform_real_distribution<double>(lo, hi)(rng));
+      const Section a = section(shape.complex, plane, xf);
+      const Section b = section(moved, plane);
+      INFO(shape.name << " trial " << trial);
+      check_section(moved, plane, b, test::bspline_section_volume(moved, plane.normal, plane.offset),
+                    "moved model");
+      REQUIRE(a.complex.fvector() == b.complex.fvector());
+      REQUIRE(validate(a.complex).ok());
+      CHECK(signed_volume(a.complex) == Approx(signed_volume(b.complex)).epsilon(1e-9));
+      for (std::uint32_t v = 0; v < a.complex.count(0); ++v)
+        CHECK((a.complex.position(v) - b.complex.position(v)).norm() < 1e-9 * diameter(moved));
+      for (std::uint32_t f = 0; f < a.complex.count(2); ++f)
+        CHECK(a.complex.facet_normals().col(f).dot(b.complex.facet_normals().col(f)) ==
+              Approx(1.0).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("section: a section of a section is a closed polygon with the oracle's area") {
+  std::mt19937 rng(9);
+  for (const Shape& shape : shapes_4d()) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Eigen::VectorXd u = random_unit(rng, 4);
+      const auto [lo, hi] = extent(shape.complex, u);
+      const Section s3 = section(shape.complex, Hyperplane::from(u, 0.5 * (lo + hi)));
+      REQUIRE(!s3.empty());
+      const Eigen::VectorXd u3 = random_unit(rng, 3);
+      const auto [lo3, hi3] = extent(s3.complex, u3);
+      const Hyperplane p3 = Hyperplane::from(u3, std::uniform_real_distribution<double>(lo3, hi3)(rng));
+      const Section s2 = section(s3.complex, p3);
+      INFO(shape.name << " trial " << trial);
+      REQUIRE(validate(s2.complex).ok());
+      CHECK(s2.complex.count(0) == s2.complex.count(1));  // one closed polygon
+      CHECK(signed_volume(s2.complex) ==
+            Approx(test::bspline_section_volume(s3.complex, p3.normal, p3.offset)).epsilon(1e-9));
+    }
+  }
+}
+
+TEST_CASE("hyperplane basis: orthonormal, right-handed, deterministic, natural for +w") {
+  std::mt19937 rng(1);
+  for (int n = 2; n <= 6; ++n) {
+    for (int trial = 0; trial < 50; ++trial) {
+      Eigen::VectorXd u = random_unit(rng, n);
+      if (trial == 0) u = Eigen::VectorXd::Unit(n, n - 1);
+      if (trial == 1) u = -Eigen::VectorXd::Unit(n, n - 1);
+      if (trial == 2) u = Eigen::VectorXd::Unit(n, 0);
+      const Eigen::MatrixXd b = hyperplane_basis(u);
+      REQUIRE((b.transpose() * b - Eigen::MatrixXd::Identity(n - 1, n - 1)).norm() < 1e-12);
+      REQUIRE((b.transpose() * u).norm() < 1e-12);
+      Eigen::MatrixXd frame(n, n);
+      frame << b, u;
+      REQUIRE(frame.determinant() == Approx(1.0));
+      REQUIRE(hyperplane_basis(u) == b);
+    }
+  }
+  const Eigen::MatrixXd b = hyperplane_basis(Eigen::Vector4d(0, 0, 0, 1));
+  CHECK(b == Eigen::MatrixXd::Identity(4, 3));
+}
+
+TEST_CASE("hyperplane: a zero or non-finite normal is rejected") {
+  CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d::Zero(), 0.0), InputError);
+  CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, NAN, 0, 0), 0.0), InputError);
+  CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, 0, 0, 0), INFINITY), InputError);
+  const Complex t = load_model("tesseract");
+  CHECK_THROWS_AS(section(t, Hyperplane::from(Eigen::Vector3d(1, 0, 0), 0.0)), InputError);
+}
