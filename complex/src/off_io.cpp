@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <istream>
 #include <iterator>
@@ -170,12 +172,16 @@ class Parser {
     for (auto tok : count_tokens) counts.push_back(parse_count(tok, count_line, "count"));
     const std::uint64_t nv = counts[0], nf = counts[1];
     // counts[2] (edges) is informational.
-    std::uint64_t announced = nv + nf;
-    for (int k = 3; k < dim; ++k) announced += counts[k];
+    // Counts never drive allocation before the data is seen to exist: the announced element
+    // lines (a saturating sum, so huge counts cannot wrap) must all be in the file.
+    std::uint64_t announced = 0;
+    for (int k = 0; k < dim; ++k) {
+      if (k == 2) continue;  // the edge count is informational
+      announced = counts[k] > UINT64_MAX - announced ? UINT64_MAX : announced + counts[k];
+    }
     if (announced > remaining())
       fail(count_line, "counts announce " + std::to_string(announced) +
                            " element lines but the file has only " + std::to_string(remaining()));
-    if (nv > 0xfffffff0ull || nf > 0xfffffff0ull) fail(count_line, "count too large");
 
     ComplexSoup soup;
     soup.ambient_dim = dim;
@@ -249,9 +255,15 @@ Complex read_off(std::istream& in, const std::string& name) {
 }
 
 Complex read_off_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ParseError(path, 0, "is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParseError(path, 0, "cannot open file");
-  return read_off(in, path);
+  try {
+    return read_off(in, path);
+  } catch (const std::ios_base::failure& e) {
+    throw ParseError(path, 0, std::string("read error: ") + e.what());
+  }
 }
 
 namespace {

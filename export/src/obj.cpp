@@ -49,6 +49,14 @@ std::string write(const Complex& c, const std::vector<std::uint32_t>* group_of_f
       out += '\n';
     }
   }
+  if (nf == 0) {
+    // A section of a 3D model is a polygon outline: its edges as OBJ line elements.
+    for (std::uint32_t e = 0; e < (c.top_rank() >= 1 ? c.count(1) : 0); ++e) {
+      const auto ends = c.edge(e);
+      out += "l " + std::to_string(ends[0] + 1) + ' ' + std::to_string(ends[1] + 1) + '\n';
+    }
+    return out;
+  }
   std::uint32_t current_group = 0xffffffffu;
   auto corner = [&](std::uint32_t v, std::uint32_t f) {
     out += ' ' + std::to_string(v + 1);

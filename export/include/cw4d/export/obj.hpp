@@ -17,8 +17,9 @@ struct ObjOptions {
 };
 
 /// OBJ text of a complex's faces: `v` per vertex, `vn` per face (its facet normal, when the
-/// complex has facet normals of rank 2), `f v//vn ...` per polygon or triangle.
-/// \throw InputError when the complex is not in R^2 or R^3 or has no faces.
+/// complex has facet normals of rank 2), `f v//vn ...` per polygon or triangle. A complex
+/// without faces (the polygon outline cut from a 3D model) is written as `l` line elements.
+/// \throw InputError when the complex is not in R^2 or R^3.
 std::string obj_text(const Complex& complex, const ObjOptions& options = {});
 /// Same for a section, grouped per source cell ("g cell_<id>").
 std::string obj_text(const Section& section, const ObjOptions& options = {});

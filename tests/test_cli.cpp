@@ -1,0 +1,559 @@
+// End-to-end tests of the cw4d command line: each test runs the real binary in a fresh
+// temporary directory and checks exit codes, messages, and that outputs agree with the library.
+#include <sys/wait.h>
+#include <unistd.h>
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/export/svg.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory under the system temp dir, removed with everything in it.
+class TempDir {
+ public:
+  TempDir() {
+    static unsigned counter = 0;
+    const fs::path base = fs::temp_directory_path();
+    do {
+      path_ =
+          base / ("cw4d_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    } while (!fs::create_directory(path_));
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  bool exists(const std::string& name) const { return fs::exists(path_ / name); }
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name, std::ios::binary) << text;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string out = "'";
+  for (char ch : s) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return out + "'";
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs cw4d with the given arguments inside dir; stdout and stderr are captured.
+Result run(const TempDir& dir, const std::vector<std::string>& args) {
+  const fs::path out = dir / ".stdout", err = dir / ".stderr";
+  std::string cmd = "cd " + quote(dir.path().string()) + " && " + quote(CW4D_EXE);
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += quote(a);
+  }
+  cmd += " >" + quote(out.string()) + " 2>" + quote(err.string());
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+// Errors are one line "cw4d: error: ..." on stderr.
+void check_one_error_line(const Result& r) {
+  INFO("stderr: " << r.err);
+  CHECK(r.err.rfind("cw4d: error: ", 0) == 0);
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  CHECK(r.err.back() == '\n');
+}
+
+std::vector<std::size_t> fvector_of(const nlohmann::json& j) {
+  return j.at("fvector").get<std::vector<std::size_t>>();
+}
+
+struct Obj {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::vector<int>> f;  // 1-based vertex indices
+};
+
+Obj read_obj(const fs::path& p) {
+  Obj obj;
+  std::istringstream in(read_text(p));
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "v") {
+      Eigen::Vector3d x;
+      ls >> x(0) >> x(1) >> x(2);
+      obj.v.push_back(x);
+    } else if (tag == "f") {
+      std::vector<int> face;
+      std::string corner;
+      while (ls >> corner) face.push_back(std::stoi(corner.substr(0, corner.find('/'))));
+      obj.f.push_back(face);
+    }
+  }
+  return obj;
+}
+
+Eigen::VectorXd vec(std::initializer_list<double> xs) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(xs.size()));
+  Eigen::Index i = 0;
+  for (double x : xs) v(i++) = x;
+  return v;
+}
+
+double radians(double degrees) {
+  return degrees * std::numbers::pi / 180.0;
+}
+
+// A tetrahedron's boundary missing one face, as a 4D cell: it parses, but is not closed.
+const char* kOpenCell =
+    "4OFF\n"
+    "4 3 6 1\n"
+    "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
+    "3 0 1 2\n3 0 1 3\n3 0 2 3\n"
+    "3 0 1 2\n";
+
+}  // namespace
+
+TEST_CASE("list names every built-in", "[cli]") {
+  TempDir dir;
+  const Result r = run(dir, {"list"});
+  REQUIRE(r.code == 0);
+  CHECK(r.err.empty());
+  for (const auto& b : cw4d::builtin_list()) {
+    INFO(b.spec);
+    CHECK(r.out.find(b.spec) != std::string::npos);
+    CHECK(r.out.find(b.description) != std::string::npos);
+  }
+}
+
+TEST_CASE("info --json reports f-vectors, validity, bounds and volume", "[cli]") {
+  TempDir dir;
+  struct Case {
+    const char* model;
+    std::vector<std::size_t> fvector;
+    double volume;
+  };
+  const double pentagon = 2.5 * std::sin(2 * std::numbers::pi / 5);
+  const double heptagon = 3.5 * std::sin(2 * std::numbers::pi / 7);
+  const std::vector<Case> cases = {
+      {"5-cell", {5, 10, 10, 5}, -1},
+      {"tesseract", {16, 32, 24, 8}, 16.0},
+      {"16-cell", {8, 24, 32, 16}, 16.0 / 24.0},
+      {"duoprism:5,7", {35, 70, 47, 12}, pentagon * heptagon},
+  };
+  for (const auto& c : cases) {
+    INFO(c.model);
+    const Result r = run(dir, {"info", c.model, "--json"});
+    REQUIRE(r.code == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j.at("model") == c.model);
+    CHECK(j.at("dimension") == 4);
+    CHECK(fvector_of(j) == c.fvector);
+    CHECK(j.at("valid") == true);
+    CHECK(j.at("issues").empty());
+    REQUIRE(j.at("bounds").at("min").size() == 4);
+    REQUIRE(j.at("bounds").at("max").size() == 4);
+    for (int i = 0; i < 4; ++i)
+      CHECK(j["bounds"]["min"][i].get<double>() < j["bounds"]["max"][i].get<double>());
+    if (c.volume > 0) CHECK(j.at("volume").get<double>() == Approx(c.volume).epsilon(1e-12));
+    CHECK(j.at("volume").get<double>() > 0);
+  }
+  const auto j = nlohmann::json::parse(run(dir, {"info", "tesseract", "--json"}).out);
+  CHECK(j["bounds"]["min"] == nlohmann::json({-1.0, -1.0, -1.0, -1.0}));
+  CHECK(j["bounds"]["max"] == nlohmann::json({1.0, 1.0, 1.0, 1.0}));
+
+  const Result text = run(dir, {"info", "tesseract"});
+  CHECK(text.code == 0);
+  CHECK(text.out.find("16, 32, 24, 8") != std::string::npos);
+}
+
+TEST_CASE("slice of the tesseract by x+y+z+w = 0 is an octahedron", "[cli]") {
+  TempDir dir;
+  const Result r =
+      run(dir, {"slice", "tesseract", "--normal", "1,1,1,1", "--offset", "0", "-o", "out/oct.obj"});
+  REQUIRE(r.code == 0);
+  CHECK(r.err.empty());
+  CHECK(r.out.find("wrote out/oct.obj: 6 vertices, 12 edges, 8 faces") == 0);
+  const Obj obj = read_obj(dir / "out/oct.obj");
+  CHECK(obj.v.size() == 6);
+  REQUIRE(obj.f.size() == 8);
+  for (const auto& f : obj.f) CHECK(f.size() == 3);
+  // Regular octahedron: every vertex at the same distance from the centre.
+  for (const auto& v : obj.v) CHECK(v.norm() == Approx(obj.v[0].norm()).epsilon(1e-12));
+}
+
+TEST_CASE("slice writes the library's section, with rotations applied in the order given",
+          "[cli]") {
+  TempDir dir;
+  struct Case {
+    const char* model;
+    std::vector<std::string> args;
+    Eigen::VectorXd normal;
+    double offset;
+    cw4d::AffineTransform xf;
+    bool triangulate;
+  };
+  using cw4d::AffineTransform;
+  // xw then xy: the two rotations share the x axis and do not commute.
+  const AffineTransform xw_then_xy = AffineTransform::rotation(4, 0, 1, radians(20)) *
+                                     AffineTransform::rotation(4, 0, 3, radians(30));
+  const std::vector<Case> cases = {
+      {"tesseract",
+       {"--normal", "0,0,0,1", "--offset", "0.3", "--rotate", "xw:30", "--rotate", "xy:20"},
+       vec({0, 0, 0, 1}),
+       0.3,
+       xw_then_xy,
+       false},
+      {"tesseract",
+       {"--normal", "0,0,0,1", "--offset", "0.3", "--rotate", "xw:30", "--rotate", "xy:20",
+        "--triangulate"},
+       vec({0, 0, 0, 1}),
+       0.3,
+       xw_then_xy,
+       true},
+      {"5-cell",
+       {"--normal=-1,2,0.5,1", "--offset", "-0.1", "--translate", "0.1,0,0,-0.2"},
+       vec({-1, 2, 0.5, 1}),
+       -0.1,
+       AffineTransform::translation(vec({0.1, 0, 0, -0.2})),
+       false},
+      {"16-cell",
+       {"--normal", "1,0,0,1", "--offset", "0.25", "--rotate", "yz:45", "--translate", "0,0,0,0.1"},
+       vec({1, 0, 0, 1}),
+       0.25,
+       AffineTransform::translation(vec({0, 0, 0, 0.1})) *
+           AffineTransform::rotation(4, 1, 2, radians(45)),
+       false},
+      {"duoprism:5,7",
+       {"--normal", "0.3,1,0,0.2", "--offset", "0.1", "--rotate", "zw:10"},
+       vec({0.3, 1, 0, 0.2}),
+       0.1,
+       AffineTransform::rotation(4, 2, 3, radians(10)),
+       true},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string out = std::to_string(k++) + ".obj";
+    INFO(c.model << " -> " << out);
+    std::vector<std::string> args = {"slice", c.model};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    if (c.triangulate) args.push_back("--triangulate");
+    args.insert(args.end(), {"-o", out});
+    const Result r = run(dir, args);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.code == 0);
+
+    const cw4d::Section expected =
+        cw4d::section(cw4d::load_model(c.model), cw4d::Hyperplane::from(c.normal, c.offset), c.xf);
+    REQUIRE(!expected.empty());
+    const Obj obj = read_obj(dir / out);
+    const auto& sc = expected.complex;
+    REQUIRE(obj.v.size() == sc.count(0));
+    std::size_t faces = 0;
+    for (std::uint32_t f = 0; f < sc.count(2); ++f)
+      faces += c.triangulate ? sc.face_cycle(f).size() - 2 : 1;
+    CHECK(obj.f.size() == faces);
+    for (std::uint32_t v = 0; v < sc.count(0); ++v)
+      CHECK((obj.v[v] - sc.position(v)).norm() < 1e-12);
+    for (const auto& f : obj.f)
+      for (int id : f) CHECK((id >= 1 && id <= static_cast<int>(obj.v.size())));
+  }
+}
+
+TEST_CASE("slice and convert write nOFF", "[cli]") {
+  TempDir dir;
+  const Result s =
+      run(dir, {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0.5", "-o", "cube.off"});
+  REQUIRE(s.code == 0);
+  const cw4d::Complex cube = cw4d::read_off_file((dir / "cube.off").string());
+  CHECK(cube.ambient_dim() == 3);
+  CHECK(cube.fvector() == std::vector<std::size_t>{8, 12, 6});
+  CHECK(cw4d::validate(cube).ok());
+
+  // 5D models slice to 4D complexes, which only nOFF holds.
+  const Result s5 =
+      run(dir, {"slice", "cube:5", "--normal", "1,0,0,0,1", "--offset", "0.5", "-o", "five.4off"});
+  REQUIRE(s5.code == 0);
+  CHECK(cw4d::read_off_file((dir / "five.4off").string()).ambient_dim() == 4);
+}
+
+TEST_CASE("convert round trip keeps the f-vector", "[cli]") {
+  TempDir dir;
+  for (const char* model : {"5-cell", "tesseract", "16-cell", "duoprism:5,7"}) {
+    INFO(model);
+    const std::string out = std::string("rt/") + model + ".4off";
+    const Result c = run(dir, {"convert", model, "-o", out});
+    REQUIRE(c.code == 0);
+    const auto a = nlohmann::json::parse(run(dir, {"info", model, "--json"}).out);
+    const Result i = run(dir, {"info", out, "--json"});
+    REQUIRE(i.code == 0);
+    const auto b = nlohmann::json::parse(i.out);
+    CHECK(fvector_of(a) == fvector_of(b));
+    CHECK(b.at("valid") == true);
+    CHECK(b.at("volume").get<double>() == Approx(a.at("volume").get<double>()).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("malformed 4OFF files exit 2 naming file:line, and write nothing", "[cli]") {
+  TempDir dir;
+  struct Bad {
+    const char* name;
+    std::string text;
+    int line;
+  };
+  const std::string tetra_vertices = "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n";
+  const std::vector<Bad> files = {
+      // The counts promise more lines than the file holds: reported at the counts line.
+      {"truncated.4off", "4OFF\n4 4 6 1\n" + tetra_vertices + "3 0 1 2\n3 0 1 3\n", 2},
+      // Cut in the middle of the last face line.
+      {"cut.4off",
+       "4OFF\n4 4 6 1\n" + tetra_vertices + "3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1\n4 0 1 2 3\n", 10},
+      {"index.4off",
+       "4OFF\n4 4 6 1\n" + tetra_vertices + "3 0 1 2\n3 0 1 7\n3 0 2 3\n3 1 2 3\n" + "4 0 1 2 3\n",
+       8},
+      {"nan.4off",
+       "4OFF\n# vertices follow\n4 4 6 1\n0 0 0 0\n1 nan 0 0\n0 1 0 0\n0 0 1 0\n"
+       "3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n4 0 1 2 3\n",
+       5},
+      {"header.4off", "# a comment first\n4FFO\n4 4 6 1\n" + tetra_vertices, 2},
+      {"coords.4off",
+       "4OFF\n4 4 6 1\n0 0 0 0\n1 0 0\n0 1 0 0\n0 0 1 0\n3 0 1 2\n3 0 1 3\n"
+       "3 0 2 3\n3 1 2 3\n4 0 1 2 3\n",
+       4},
+  };
+  for (const auto& bad : files) {
+    INFO(bad.name);
+    dir.write(bad.name, bad.text);
+    const std::string where = std::string(bad.name) + ":" + std::to_string(bad.line) + ":";
+    const std::vector<std::vector<std::string>> commands = {
+        {"info", bad.name},
+        {"convert", bad.name, "-o", "out.4off"},
+        {"slice", bad.name, "--normal", "1,0,0,0", "--offset", "0.1", "-o", "out.obj"},
+    };
+    for (const auto& cmd : commands) {
+      INFO(cmd[0]);
+      const Result r = run(dir, cmd);
+      CHECK(r.code == 2);
+      check_one_error_line(r);
+      CHECK(r.err.find(where) != std::string::npos);
+      CHECK(!dir.exists("out.4off"));
+      CHECK(!dir.exists("out.obj"));
+    }
+  }
+  const Result missing = run(dir, {"info", "no-such-file.4off"});
+  CHECK(missing.code == 2);
+  check_one_error_line(missing);
+  // A directory opens as a stream but cannot be read.
+  const Result directory = run(dir, {"info", "."});
+  CHECK(directory.code == 2);
+  check_one_error_line(directory);
+}
+
+TEST_CASE("a parseable but invalid complex: info reports it, slice and convert exit 3", "[cli]") {
+  TempDir dir;
+  dir.write("open.4off", kOpenCell);
+  // The reader builds it; only validation objects.
+  const cw4d::Complex open = cw4d::read_off_file((dir / "open.4off").string());
+  REQUIRE(!cw4d::validate(open).ok());
+
+  const Result info = run(dir, {"info", "open.4off", "--json"});
+  REQUIRE(info.code == 0);
+  const auto j = nlohmann::json::parse(info.out);
+  CHECK(j.at("valid") == false);
+  CHECK(!j.at("issues").empty());
+  CHECK(fvector_of(j) == std::vector<std::size_t>{4, 6, 3, 1});
+
+  const Result slice =
+      run(dir, {"slice", "open.4off", "--normal", "1,0,0,0", "--offset", "0.1", "-o", "o.obj"});
+  CHECK(slice.code == 3);
+  check_one_error_line(slice);
+  CHECK(slice.err.find("not closed") != std::string::npos);
+  CHECK(!dir.exists("o.obj"));
+
+  const Result convert = run(dir, {"convert", "open.4off", "-o", "o.4off"});
+  CHECK(convert.code == 3);
+  check_one_error_line(convert);
+  CHECK(!dir.exists("o.4off"));
+}
+
+TEST_CASE("usage errors exit 1 and write nothing", "[cli]") {
+  TempDir dir;
+  const std::vector<std::vector<std::string>> commands = {
+      {},
+      {"frobnicate"},
+      {"info"},
+      {"info", "no-such-model"},
+      {"info", "cube:99"},
+      {"slice", "no-such-model", "--normal", "1,0,0,0", "--offset", "0", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,0", "--offset", "0", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,1", "--offset", "0", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1,0", "--offset", "0", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,a,0,1", "--offset", "0", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "abc", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "-o", "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "x.stl"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--triangulate", "-o",
+       "x.4off"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--rotate", "xq:10", "-o",
+       "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--rotate", "xy", "-o",
+       "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--translate", "1,2", "-o",
+       "x.obj"},
+      {"slice", "cube:3", "--normal", "1,0,0", "--offset", "0", "--rotate", "xw:10", "-o", "x.obj"},
+      {"convert", "tesseract", "-o", "x.obj"},
+      {"info", "tesseract", "--bogus"},
+  };
+  for (const auto& cmd : commands) {
+    std::string line;
+    for (const auto& a : cmd) line += a + " ";
+    INFO("cw4d " << line);
+    const Result r = run(dir, cmd);
+    CHECK(r.code == 1);
+    check_one_error_line(r);
+    CHECK(!dir.exists("x.obj"));
+    CHECK(!dir.exists("x.4off"));
+    CHECK(!dir.exists("x.stl"));
+  }
+  const Result help = run(dir, {"--help"});
+  CHECK(help.code == 0);
+  CHECK(help.out.find("Exit codes") != std::string::npos);
+}
+
+TEST_CASE("an unwritable output exits 4 and leaves nothing", "[cli]") {
+  TempDir dir;
+  dir.write("blocker", "a regular file\n");
+  const std::vector<std::vector<std::string>> commands = {
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "blocker/x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "blocker/sub/x.obj"},
+      {"convert", "tesseract", "-o", "blocker/x.4off"},
+  };
+  for (const auto& cmd : commands) {
+    INFO(cmd.back());
+    const Result r = run(dir, cmd);
+    CHECK(r.code == 4);
+    check_one_error_line(r);
+    CHECK(fs::is_regular_file(dir / "blocker"));
+    CHECK(read_text(dir / "blocker") == "a regular file\n");
+  }
+  // Only the blocker and nothing else (no temporary files) in the directory.
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir.path())) ++entries;
+  CHECK(entries == 1);
+}
+
+TEST_CASE("missing parent directories of the output are created", "[cli]") {
+  TempDir dir;
+  const Result r = run(dir, {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o",
+                             "a/b/c/section.obj"});
+  CHECK(r.code == 0);
+  CHECK(fs::is_regular_file(dir / "a/b/c/section.obj"));
+}
+
+TEST_CASE("an empty section exits 5 and writes nothing", "[cli]") {
+  TempDir dir;
+  for (const char* out : {"out/empty.obj", "empty.4off"}) {
+    INFO(out);
+    const Result r =
+        run(dir, {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "10", "-o", out});
+    CHECK(r.code == 5);
+    check_one_error_line(r);
+    CHECK(!dir.exists(out));
+    CHECK(!dir.exists("out"));
+  }
+  // Far away after the translation: the plane w = 0 misses a tesseract moved to w = 5.
+  const Result moved = run(dir, {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0",
+                                 "--translate", "0,0,0,5", "-o", "moved.obj"});
+  CHECK(moved.code == 5);
+  CHECK(!dir.exists("moved.obj"));
+}
+
+TEST_CASE("slice of a 3D model writes its polygon outline as OBJ line elements", "[cli]") {
+  TempDir dir;
+  const Result r =
+      run(dir, {"slice", "cube:3", "--normal", "0,1,1", "--offset", "0.5", "-o", "outline.obj"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string text = read_text(dir / "outline.obj");
+  const cw4d::Section expect = cw4d::section(cw4d::load_model("cube:3"),
+                                             cw4d::Hyperplane::from(vec({0, 1, 1}), 0.5));
+  std::size_t v = 0, l = 0, f = 0;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    v += line.rfind("v ", 0) == 0;
+    l += line.rfind("l ", 0) == 0;
+    f += line.rfind("f ", 0) == 0;
+  }
+  CHECK(v == expect.complex.count(0));
+  CHECK(l == expect.complex.count(1));
+  CHECK(l == 4);  // the cut of a cube by this plane is a rectangle
+  CHECK(f == 0);
+}
+
+TEST_CASE("slice to .svg draws exactly the faces that face the viewer", "[cli]") {
+  TempDir dir;
+  const Result r = run(dir, {"slice", "tesseract", "--normal", "1,1,1,1", "--offset", "0.5",
+                             "--rotate", "xy:15", "-o", "pic.svg"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string text = read_text(dir / "pic.svg");
+  CHECK(text.rfind("<svg", 0) == 0);
+  std::size_t polygons = 0;
+  for (std::size_t at = text.find("<polygon"); at != std::string::npos;
+       at = text.find("<polygon", at + 1))
+    ++polygons;
+  const cw4d::Complex model = cw4d::load_model("tesseract");
+  const cw4d::AffineTransform xf = cw4d::AffineTransform::rotation(4, 0, 1, 15 * std::numbers::pi / 180);
+  const cw4d::Section s = cw4d::section(model, cw4d::Hyperplane::from(vec({1, 1, 1, 1}), 0.5), xf);
+  std::size_t front = 0;
+  const Eigen::Vector3d view = cw4d::SvgOptions{}.view_from.normalized();
+  for (std::uint32_t face = 0; face < s.complex.count(2); ++face)
+    front += Eigen::Vector3d(s.complex.facet_normals().col(face)).dot(view) > 0.0;
+  CHECK(front > 0);
+  CHECK(polygons == front);
+  // A 3D model has no 3D section to draw.
+  const Result bad = run(dir, {"slice", "cube:3", "--normal", "0,0,1", "--offset", "0", "-o", "x.svg"});
+  CHECK(bad.code == 1);
+  CHECK(!dir.exists("x.svg"));
+}
