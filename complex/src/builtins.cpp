@@ -11,6 +11,7 @@
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/wythoff.hpp"
 
 namespace cw4d {
 
@@ -324,12 +325,20 @@ const std::vector<BuiltinInfo>& builtin_list() {
       {"5-cell", "regular 4-simplex (pentachoron), circumradius 1"},
       {"tesseract", "4-cube [-1,1]^4 (also: 8-cell)"},
       {"16-cell", "4-orthoplex with vertices +-e_i (also: hexadecachoron)"},
+      {"24-cell", "wythoff:x3o4o3o, edge 2 (also: icositetrachoron)"},
+      {"120-cell", "wythoff:x5o3o3o, edge 2 (also: hecatonicosachoron)"},
+      {"600-cell", "wythoff:x3o3o5o, edge 2 (also: hexacosichoron)"},
+      {"OPERATION BASE",
+       "convex uniform polychoron, e.g. 'truncated tesseract', 'rectified 5-cell' (OPERATION: "
+       "truncated, rectified, bitruncated, cantellated, runcinated, cantitruncated, "
+       "runcitruncated, omnitruncated)"},
       {"simplex:N", "regular N-simplex, circumradius 1 (N = 2..12)"},
       {"cube:N", "N-cube [-1,1]^N (N = 2..10)"},
       {"orthoplex:N", "N-orthoplex, vertices +-e_i (N = 2..10)"},
       {"polygon:P", "regular P-gon in the plane, circumradius 1"},
       {"duoprism:P,Q", "product of a regular P-gon and a regular Q-gon (P, Q >= 3)"},
       {"prism:MODEL", "MODEL x [-1,1]: the prism over any model spec or file"},
+      {"wythoff:DIAGRAM", "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2"},
       {"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"},
   };
   return list;
@@ -375,11 +384,12 @@ bool is_builtin_spec(std::string_view spec) {
                                 "hexadecachoron"};
   for (auto* name : names)
     if (s == name) return true;
+  if (uniform_polychoron_diagram(s)) return true;
   const auto colon = s.find(':');
   if (colon == std::string::npos) return false;
   const std::string head = s.substr(0, colon);
   return head == "simplex" || head == "cube" || head == "orthoplex" || head == "polygon" ||
-         head == "duoprism" || head == "prism";
+         head == "duoprism" || head == "prism" || head == "wythoff";
 }
 
 Complex load_model(const std::string& spec) {
@@ -387,11 +397,13 @@ Complex load_model(const std::string& spec) {
   if (s == "5-cell" || s == "pentachoron") return make_simplex(4);
   if (s == "tesseract" || s == "8-cell") return make_cube(4);
   if (s == "16-cell" || s == "hexadecachoron") return make_orthoplex(4);
+  if (auto diagram = uniform_polychoron_diagram(s)) return make_wythoff(*diagram);
   const auto colon = s.find(':');
   if (colon != std::string::npos && is_builtin_spec(s)) {
     const std::string head = s.substr(0, colon);
     const std::string_view args = std::string_view(spec).substr(colon + 1);
     if (head == "prism") return make_product(load_model(std::string(args)), make_segment());
+    if (head == "wythoff") return make_wythoff(args);
     if (head == "duoprism") {
       auto v = parse_ints(args, spec, 2);
       return make_duoprism(v[0], v[1]);

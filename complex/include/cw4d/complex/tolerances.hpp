@@ -16,4 +16,15 @@ inline constexpr double planarity_rel = 1e-6;
 /// treated as zero (degenerate) when orienting.
 inline constexpr double degenerate_rel = 1e-12;
 
+/// Wythoff construction: orbit points within wythoff_same_vertex_rel * circumradius are one
+/// vertex. Rounding in -cos(pi/m) makes a vertex reached by k reflections drift by about
+/// k * m * 1e-16 (relative; measured 3e-9 for m = 10000), while distinct vertices are at least
+/// ~pi / m apart.
+inline constexpr double wythoff_same_vertex_rel = 1e-7;
+
+/// A Coxeter diagram's Gram matrix counts as positive definite (a finite group) when its smallest
+/// eigenvalue exceeds this. Affine groups give 0 (numerically ~1e-16); the smallest finite value,
+/// I2(10000), is about 5e-8.
+inline constexpr double wythoff_positive_definite_min = 1e-12;
+
 }  // namespace cw4d::tol

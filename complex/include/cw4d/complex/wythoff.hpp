@@ -1,0 +1,53 @@
+#pragma once
+// Uniform polytopes by the Wythoff construction from linear Coxeter-Dynkin diagrams.
+//
+// Notation (linear, as in Klitzing's lists and Miratope): nodes are 'x' (ringed) or 'o'
+// (unringed), separated by integer branch labels >= 2 that give the order of the product of
+// the two neighbouring reflections; '3' is never omitted and 2 means "not joined". Examples:
+// "x5o" pentagon, "x5x" decagon, "x3o3o" tetrahedron, "o3x4o" cuboctahedron, "x4o3o3o"
+// tesseract, "x3o4o3o" 24-cell, "x5x3x3x" omnitruncated 120-cell, "x5o2x" pentagonal prism.
+// The rank (number of nodes) is the ambient dimension; ranks 2..10 are accepted.
+//
+// Convention: the result is centred at the origin and EVERY EDGE HAS LENGTH 2 (the edge of the
+// tesseract [-1,1]^4). The coordinate frame is the one in which the simple roots are the rows of
+// the Cholesky factor of the Gram matrix, i.e. an arbitrary but fixed rotation of the polytope.
+// Vertex 0 is the base point of the construction (inside the fundamental chamber's closure).
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cw4d/complex/complex.hpp"
+
+namespace cw4d {
+
+/// A linear Coxeter-Dynkin diagram with rings.
+struct CoxeterDiagram {
+  std::vector<bool> ringed;  ///< one entry per node
+  std::vector<int> labels;   ///< labels[i] joins node i and node i + 1 (size = nodes - 1)
+  int rank() const { return static_cast<int>(ringed.size()); }
+};
+
+/// Parses "x4o3o3o". Accepts upper-case X / O.
+/// \throw InputError for malformed text (unknown node letter, missing or non-integer label,
+///        label outside 2..10000, fewer than 2 or more than 10 nodes).
+CoxeterDiagram parse_coxeter_diagram(std::string_view text);
+
+/// The closed uniform polytope of a diagram (ranks 1 .. rank-1 stored, outward oriented, facet
+/// normals computed; a rank-2 diagram gives a polygon as edges only).
+/// \throw InputError when the diagram is malformed, when some connected component of the diagram
+///        has no ringed node (no ring at all, or a lower-dimensional result), when the group is
+///        not finite (Gram matrix of the simple roots not positive definite, e.g. "x6o3o"), or
+///        when the polytope would have more than 2,000,000 vertices.
+Complex make_wythoff(const CoxeterDiagram& diagram);
+Complex make_wythoff(std::string_view diagram);
+
+/// The diagram of a convex uniform polychoron named in English, case-insensitive, words joined
+/// by spaces, hyphens or underscores: an optional operation (truncated, rectified, bitruncated,
+/// cantellated, runcinated, cantitruncated, runcitruncated, omnitruncated) followed by a regular
+/// base (pentachoron / 5-cell, tesseract / 8-cell, hexadecachoron / 16-cell, icositetrachoron /
+/// 24-cell, hecatonicosachoron / 120-cell, hexacosichoron / 600-cell). Returns e.g. "x4x3o3o"
+/// for "truncated tesseract", nullopt for anything else.
+std::optional<std::string> uniform_polychoron_diagram(std::string_view name);
+
+}  // namespace cw4d
