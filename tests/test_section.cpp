@@ -110,10 +110,10 @@ void check_section(const Complex& model, const Hyperplane& plane, const Section&
     }
     REQUIRE((x - expect).norm() <= 1e-9 * scale);
   }
-  // No duplicate vertices.
+  // No duplicate vertices (crossings within 1e-9 of a model vertex are welded into one).
   for (std::uint32_t a = 0; a < c.count(0); ++a)
     for (std::uint32_t b = a + 1; b < c.count(0); ++b)
-      REQUIRE((c.position(a) - c.position(b)).norm() > 1e-9 * scale);
+      REQUIRE((c.position(a) - c.position(b)).norm() > 1e-11 * scale);
   // Facets: no zero volume, convex solid, normal = geometric normal, lies in its source facet.
   const int fr = n - 2;
   REQUIRE(c.has_facet_normals());
@@ -461,4 +461,79 @@ TEST_CASE("hyperplane: a zero or non-finite normal is rejected") {
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, 0, 0, 0), INFINITY), InputError);
   const Complex t = load_model("tesseract");
   CHECK_THROWS_AS(section(t, Hyperplane::from(Eigen::Vector3d(1, 0, 0), 0.0)), InputError);
+}
+
+// --- regressions, named after the bugs they pin -----------------------------------------------
+
+TEST_CASE("regression: cutting a 2D complex (a section of a section of a section)") {
+  const Section points = section(make_polygon(4), Hyperplane::from(Eigen::Vector2d(1, 0), 0.1));
+  REQUIRE(points.complex.count(0) == 2);
+  CHECK(points.complex.ambient_dim() == 1);
+  // 4D -> 3D -> 2D -> 1D: the last cut of a closed polygon is two points.
+  const Section s3 = section(load_model("tesseract"), Hyperplane::from(Eigen::Vector4d(0.1, 0.2, 0.3, 1), 0.1));
+  const Section s2 = section(s3.complex, Hyperplane::from(Eigen::Vector3d(0.2, 0.1, 1), 0.05));
+  const Section s1 = section(s2.complex, Hyperplane::from(Eigen::Vector2d(0.3, 1), 0.02));
+  REQUIRE(validate(s2.complex).ok());
+  CHECK(s1.complex.count(0) == 2);
+}
+
+namespace {
+
+// Volume of {x in [-1,1]^3 : a.x >= t} for a > 0 componentwise (inclusion-exclusion).
+double cube_cap_volume(const Eigen::Vector3d& a, double t) {
+  const double tau = (t + a.sum()) / 2.0;  // x = 2u - 1
+  double below = 0.0;
+  for (int mask = 0; mask < 8; ++mask) {
+    double shift = 0.0;
+    int bits = 0;
+    for (int i = 0; i < 3; ++i)
+      if (mask >> i & 1) shift += a(i), ++bits;
+    if (tau - shift > 0) below += (bits % 2 ? -1.0 : 1.0) * std::pow(tau - shift, 3);
+  }
+  below /= 6.0 * a.prod();
+  return 8.0 * (1.0 - below);
+}
+
+}  // namespace
+
+TEST_CASE("regression: planes nearly parallel to a facet keep planar faces and the true volume") {
+  // n = (1e-9, 2e-9, 4e-9, 1): the plane is tilted by ~5e-9 rad from the cell w = 1. A wide ON
+  // band used to snap a vertex 2e-10 away from the plane and bend its polygons by 2%.
+  const Complex t = load_model("tesseract");
+  const Eigen::Vector4d n(1e-9, 2e-9, 4e-9, 1.0);
+  for (double delta : {-8e-10, -3e-10, -1e-10, 1e-10, 3e-10, 8e-10, 2e-9, 5e-9}) {
+    const double d = 1.0 + delta;  // the distance along n/|n| (|n| = 1 to 1e-17)
+    const Hyperplane plane = Hyperplane::from(n, d);
+    const Section s = section(t, plane);
+    INFO("d = 1 + " << delta);
+    // The section projects onto {x in [-1,1]^3 : x + 2y + 4z >= (1 + delta - d|n|...)/1e-9}.
+    const double level = (1.0 - plane.offset * n.norm()) / -1e-9;  // x + 2y + 4z >= level
+    const double expected = cube_cap_volume(Eigen::Vector3d(1, 2, 4), level);
+    if (expected <= 0.0) {
+      CHECK(s.empty());
+      continue;
+    }
+    REQUIRE(!s.empty());
+    INFO(validate(s.complex).summary());
+    REQUIRE(validate(s.complex).ok());
+    CHECK(signed_volume(s.complex) == Approx(expected).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("regression: the ON band follows rounding error, not the distance from the origin") {
+  // A 5-cell moved 1e8 away: vertices 0.01 from the plane are not on it, whether the move is
+  // baked into the coordinates or passed as the model-to-world transform.
+  const Complex cell = make_simplex(4);
+  for (double far : {1e4, 1e6, 1e8}) {
+    const AffineTransform move = AffineTransform::translation(Eigen::Vector4d(far, -far, far, far));
+    const Complex baked = transformed(cell, move);
+    const double wmax = baked.positions().row(3).maxCoeff();
+    const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), wmax - 0.01);
+    const Section a = section(baked, plane);
+    const Section b = section(cell, plane, move);
+    INFO("offset " << far);
+    REQUIRE(!a.empty());
+    REQUIRE(a.complex.fvector() == b.complex.fvector());
+    CHECK(signed_volume(a.complex) == Approx(signed_volume(b.complex)).epsilon(1e-4));
+  }
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -60,8 +61,8 @@ struct CutResult {
 class Cutter {
  public:
   Cutter(const Complex& model, const std::vector<double>& s, const std::vector<Side>& side,
-         int tie, bool degenerate)
-      : m_(model), s_(s), side_(side), tie_(tie), degenerate_(degenerate),
+         int tie, bool degenerate, double weld)
+      : m_(model), s_(s), side_(side), tie_(tie), degenerate_(degenerate), weld_(weld),
         n_(model.ambient_dim()), out_(model.ambient_dim() - 1) {}
 
   CutResult run();
@@ -89,6 +90,7 @@ class Cutter {
   const std::vector<Side>& side_;
   int tie_;
   bool degenerate_;
+  double weld_;
   int n_;
   Complex out_;
   std::vector<double> pos_;  // model-space positions of section vertices, n_ per vertex
@@ -103,7 +105,9 @@ void Cutter::cut_edges() {
   const std::size_t ne = m_.count(1);
   ImageTable& img = images_[1];
   img.offsets.reserve(ne + 1);
-  std::vector<std::uint32_t> on_vertex(degenerate_ ? m_.count(0) : 0, none);
+  // Section vertices that stand for a model vertex: one on the plane, or one that a crossing
+  // point lies within the weld distance of. All their crossings become one section vertex.
+  std::vector<std::uint32_t> at_vertex(m_.count(0), none);
   const auto& p = m_.positions();
   for (std::uint32_t e = 0; e < ne; ++e) {
     const auto [a, b] = m_.edge(e);
@@ -116,11 +120,23 @@ void Cutter::cut_edges() {
     std::uint32_t v;
     if (side_[a] == Side::On || side_[b] == Side::On) {
       const std::uint32_t on = side_[a] == Side::On ? a : b;
-      if (on_vertex[on] == none) on_vertex[on] = add_vertex(p.col(on), {on, 0, 0.0});
-      v = on_vertex[on];
+      if (at_vertex[on] == none) at_vertex[on] = add_vertex(p.col(on), {on, 0, 0.0});
+      v = at_vertex[on];
     } else {
       const double t = s_[a] / (s_[a] - s_[b]);
-      v = add_vertex((1.0 - t) * p.col(a) + t * p.col(b), {e, 1, t});
+      const double len = (p.col(b) - p.col(a)).norm();
+      std::uint32_t near = none;
+      if (t * len <= weld_)
+        near = a;
+      else if ((1.0 - t) * len <= weld_)
+        near = b;
+      if (near != none && at_vertex[near] != none) {
+        v = at_vertex[near];
+      } else {
+        v = add_vertex((1.0 - t) * p.col(a) + t * p.col(b), {e, 1, t});
+        if (near != none) at_vertex[near] = v;
+      }
+      if (near != none) degenerate_ = true;  // pieces may collapse: cancel them as chains
     }
     const Term term{v, coef};
     img.push({&term, 1});
@@ -233,13 +249,19 @@ void Cutter::emit_faces(std::vector<Term>& chain, std::uint32_t source, std::vec
     if (steps[start].used) continue;
     loop.clear();
     Step* cur = &steps[start];
+    bool closed = false;
     while (cur && !cur->used) {
       cur->used = true;
       loop.push_back({cur->edge, cur->sign});
-      if (cur->head == steps[start].tail) break;
+      if (cur->head == steps[start].tail) {
+        closed = true;
+        break;
+      }
       cur = find_from(cur->head);
     }
-    if (loop.size() < 3) continue;  // an open or degenerate remnant cannot bound a polygon
+    // An open walk (only from inconsistent, e.g. self-intersecting, input) or a degenerate
+    // remnant cannot bound a polygon.
+    if (!closed || loop.size() < 3) continue;
     int rel = 1;
     const std::uint32_t id = dedupe(2, loop, source, &rel);
     image.push_back({id, rel});
@@ -310,7 +332,7 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
   std::vector<std::vector<char>> keep(otop + 1);
   keep[0].assign(vsrc_.size(), 0);
   for (int r = 1; r <= otop; ++r) keep[r].assign(out_.count(r), 0);
-  std::vector<int> facet_flip(ofr >= 0 && ofr <= otop ? out_.count(ofr) : 0, 0);
+  std::vector<int> facet_flip(ofr >= 0 && ofr <= otop ? keep[ofr].size() : 0, 0);
   for (const Term& t : facets) {
     if (ofr < 0 || ofr > otop) break;
     keep[ofr][t.id] = 1;
@@ -352,8 +374,9 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
       sec.source[r].push_back(src_[r][x]);
     }
   }
-  for (std::size_t f = 0; f < facet_flip.size(); ++f)
-    if (facet_flip[f] && keep[ofr][f]) result.flip(ofr, remap[ofr][f]);
+  if (ofr >= 1)  // (points, the facets of a 1D section, carry no orientation)
+    for (std::size_t f = 0; f < facet_flip.size(); ++f)
+      if (facet_flip[f] && keep[ofr][f]) result.flip(ofr, remap[ofr][f]);
   sec.complex = std::move(result);
   return {std::move(sec), std::move(positions)};
 }
@@ -372,8 +395,12 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
   const Eigen::VectorXd nm = xf.linear().transpose() * plane.normal;
   const double dm = plane.offset - plane.normal.dot(xf.translation());
+  // ON means within the rounding error of s = nm.x - dm (see tolerances.hpp); crossing points
+  // within the weld distance of a model vertex (relative to the model's size) merge into it.
   const double scale = nm.norm() * max_radius(model) + std::abs(dm);
-  const double tolerance = tol::plane_side_rel * (scale > 0.0 ? scale : 1.0);
+  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+  const Bounds box = bounds(model);
+  const double weld = tol::weld_rel * (box.max - box.min).norm();
   const std::size_t nv = model.count(0);
   std::vector<double> s(nv);
   std::vector<Side> side(nv);
@@ -390,8 +417,9 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   cut.section.complex = Complex(n - 1);
   cut.model_positions.resize(n, 0);
   if ((any_pos && any_neg) || any_on) {
-    cut = Cutter(model, s, side, +1, any_on).run();
-    if (cut.model_positions.cols() == 0 && any_on) cut = Cutter(model, s, side, -1, true).run();
+    cut = Cutter(model, s, side, +1, any_on, weld).run();
+    if (cut.model_positions.cols() == 0 && any_on)
+      cut = Cutter(model, s, side, -1, true, weld).run();
   }
   Section sec = std::move(cut.section);
   const Eigen::MatrixXd& model_pos = cut.model_positions;

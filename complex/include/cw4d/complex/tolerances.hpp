@@ -3,10 +3,17 @@
 
 namespace cw4d::tol {
 
-/// A vertex whose signed distance to a hyperplane is within plane_side_rel * scale is ON the
-/// plane, where scale = |n| * max_i |x_i| + |d| (n, d in model space). Used only by
-/// cw4d::classify_side, the one function every topological decision of the section uses.
-inline constexpr double plane_side_rel = 1e-10;
+/// A vertex is ON a hyperplane when its signed value s = n.x - d lies within the rounding error
+/// of computing it: |s| <= plane_side_ulps * epsilon * (|n| * max_i |x_i| + |d|) (n, d in model
+/// space). Used only by cw4d::classify_side, the one function every topological decision of the
+/// section uses. Deliberately tight: a wider band would snap vertices of cells that are almost
+/// parallel to the plane, moving their cut polygons far off the plane of the cell.
+inline constexpr double plane_side_ulps = 64.0;
+
+/// A crossing point that lies within weld_rel * (the model's bounding-box diagonal) of an end of
+/// its edge merges into that end's section vertex, so nearly degenerate planes give no
+/// near-duplicate vertices; the collapsed pieces cancel as chains.
+inline constexpr double weld_rel = 1e-9;
 
 /// A facet is planar when every vertex lies within planarity_rel * (facet diameter) of the
 /// facet's best-fit hyperplane (validate()).
