@@ -320,30 +320,6 @@ Complex make_duoprism(int p, int q) {
   return make_product(make_polygon(p), make_polygon(q));
 }
 
-const std::vector<BuiltinInfo>& builtin_list() {
-  static const std::vector<BuiltinInfo> list = {
-      {"5-cell", "regular 4-simplex (pentachoron), circumradius 1"},
-      {"tesseract", "4-cube [-1,1]^4 (also: 8-cell)"},
-      {"16-cell", "4-orthoplex with vertices +-e_i (also: hexadecachoron)"},
-      {"24-cell", "wythoff:x3o4o3o, edge 2 (also: icositetrachoron)"},
-      {"120-cell", "wythoff:x5o3o3o, edge 2 (also: hecatonicosachoron)"},
-      {"600-cell", "wythoff:x3o3o5o, edge 2 (also: hexacosichoron)"},
-      {"OPERATION BASE",
-       "convex uniform polychoron, e.g. 'truncated tesseract', 'rectified 5-cell' (OPERATION: "
-       "truncated, rectified, bitruncated, cantellated, runcinated, cantitruncated, "
-       "runcitruncated, omnitruncated)"},
-      {"simplex:N", "regular N-simplex, circumradius 1 (N = 2..12)"},
-      {"cube:N", "N-cube [-1,1]^N (N = 2..10)"},
-      {"orthoplex:N", "N-orthoplex, vertices +-e_i (N = 2..10)"},
-      {"polygon:P", "regular P-gon in the plane, circumradius 1"},
-      {"duoprism:P,Q", "product of a regular P-gon and a regular Q-gon (P, Q >= 3)"},
-      {"prism:MODEL", "MODEL x [-1,1]: the prism over any model spec or file"},
-      {"wythoff:DIAGRAM", "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2"},
-      {"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"},
-  };
-  return list;
-}
-
 namespace {
 
 int parse_int(std::string_view text, std::string_view spec) {
@@ -354,6 +330,118 @@ int parse_int(std::string_view text, std::string_view spec) {
                      "' is not an integer");
   return value;
 }
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (auto& ch : out) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return out;
+}
+
+std::string head_of(std::string_view lowered) {
+  const auto colon = lowered.find(':');
+  return colon == std::string_view::npos ? std::string() : std::string(lowered.substr(0, colon));
+}
+
+// A family of specs that are one name (with aliases).
+ModelFamily named(std::vector<std::string> names, std::string description,
+                  std::function<Complex()> make) {
+  ModelFamily f;
+  f.usage = names.front();
+  f.description = std::move(description);
+  f.matches = [names](std::string_view lowered) {
+    return std::find(names.begin(), names.end(), lowered) != names.end();
+  };
+  f.make = [make = std::move(make)](const std::string&) { return make(); };
+  return f;
+}
+
+// A family of specs "HEAD:ARGS".
+ModelFamily parametric(std::string head, std::string usage, std::string description,
+                       std::function<Complex(const std::string& spec, std::string_view args)> make) {
+  ModelFamily f;
+  f.usage = std::move(usage);
+  f.description = std::move(description);
+  f.matches = [head](std::string_view lowered) { return head_of(lowered) == head; };
+  f.make = [make = std::move(make)](const std::string& spec) {
+    return make(spec, std::string_view(spec).substr(spec.find(':') + 1));
+  };
+  return f;
+}
+
+std::vector<ModelFamily> default_families() {
+  std::vector<ModelFamily> f;
+  f.push_back(named({"5-cell", "pentachoron"}, "regular 4-simplex, circumradius 1",
+                    [] { return make_simplex(4); }));
+  f.push_back(named({"tesseract", "8-cell"}, "4-cube [-1,1]^4", [] { return make_cube(4); }));
+  f.push_back(named({"16-cell", "hexadecachoron"}, "4-orthoplex with vertices +-e_i",
+                    [] { return make_orthoplex(4); }));
+  f.push_back(named({"24-cell", "icositetrachoron"}, "wythoff:x3o4o3o, edge 2",
+                    [] { return make_wythoff("x3o4o3o"); }));
+  f.push_back(named({"120-cell", "hecatonicosachoron"}, "wythoff:x5o3o3o, edge 2",
+                    [] { return make_wythoff("x5o3o3o"); }));
+  f.push_back(named({"600-cell", "hexacosichoron"}, "wythoff:x3o3o5o, edge 2",
+                    [] { return make_wythoff("x3o3o5o"); }));
+  {
+    ModelFamily u;
+    u.usage = "OPERATION BASE";
+    u.description =
+        "convex uniform polychoron, e.g. 'truncated tesseract', 'rectified 5-cell' (OPERATION: "
+        "truncated, rectified, bitruncated, cantellated, runcinated, cantitruncated, "
+        "runcitruncated, omnitruncated)";
+    u.matches = [](std::string_view lowered) {
+      return uniform_polychoron_diagram(lowered).has_value();
+    };
+    u.make = [](const std::string& spec) {
+      return make_wythoff(*uniform_polychoron_diagram(lower(spec)));
+    };
+    f.push_back(std::move(u));
+  }
+  f.push_back(parametric("simplex", "simplex:N", "regular N-simplex, circumradius 1 (N = 2..12)",
+                         [](const std::string& spec, std::string_view a) {
+                           return make_simplex(parse_ints(a, spec, 1)[0]);
+                         }));
+  f.push_back(parametric("cube", "cube:N", "N-cube [-1,1]^N (N = 2..10)",
+                         [](const std::string& spec, std::string_view a) {
+                           return make_cube(parse_ints(a, spec, 1)[0]);
+                         }));
+  f.push_back(parametric("orthoplex", "orthoplex:N", "N-orthoplex, vertices +-e_i (N = 2..10)",
+                         [](const std::string& spec, std::string_view a) {
+                           return make_orthoplex(parse_ints(a, spec, 1)[0]);
+                         }));
+  f.push_back(parametric("polygon", "polygon:P", "regular P-gon in the plane, circumradius 1",
+                         [](const std::string& spec, std::string_view a) {
+                           return make_polygon(parse_ints(a, spec, 1)[0]);
+                         }));
+  f.push_back(parametric("duoprism", "duoprism:P,Q",
+                         "product of a regular P-gon and a regular Q-gon (P, Q >= 3)",
+                         [](const std::string& spec, std::string_view a) {
+                           const auto v = parse_ints(a, spec, 2);
+                           return make_duoprism(v[0], v[1]);
+                         }));
+  f.push_back(parametric("prism", "prism:MODEL",
+                         "MODEL x [-1,1]: the prism over any model spec or file",
+                         [](const std::string&, std::string_view a) {
+                           return make_product(load_model(std::string(a)), make_segment());
+                         }));
+  f.push_back(parametric("wythoff", "wythoff:DIAGRAM",
+                         "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2",
+                         [](const std::string&, std::string_view a) { return make_wythoff(a); }));
+  return f;
+}
+
+std::vector<ModelFamily>& registry() {
+  static std::vector<ModelFamily> families = default_families();
+  return families;
+}
+
+const ModelFamily* find_family(std::string_view spec) {
+  const std::string s = lower(spec);
+  for (const ModelFamily& f : registry())
+    if (f.matches(s)) return &f;
+  return nullptr;
+}
+
+}  // namespace
 
 std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::size_t count) {
   std::vector<int> out;
@@ -370,50 +458,28 @@ std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::s
   return out;
 }
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (auto& ch : out) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return out;
+void register_model_family(ModelFamily family) {
+  if (!family.matches || !family.make) throw InputError("register_model_family: empty family");
+  auto& families = registry();
+  for (auto& f : families)
+    if (f.usage == family.usage) {
+      f = std::move(family);
+      return;
+    }
+  families.push_back(std::move(family));
 }
 
-}  // namespace
-
-bool is_builtin_spec(std::string_view spec) {
-  const std::string s = lower(spec);
-  static const char* names[] = {"5-cell", "pentachoron", "tesseract", "8-cell", "16-cell",
-                                "hexadecachoron"};
-  for (auto* name : names)
-    if (s == name) return true;
-  if (uniform_polychoron_diagram(s)) return true;
-  const auto colon = s.find(':');
-  if (colon == std::string::npos) return false;
-  const std::string head = s.substr(0, colon);
-  return head == "simplex" || head == "cube" || head == "orthoplex" || head == "polygon" ||
-         head == "duoprism" || head == "prism" || head == "wythoff";
+std::vector<BuiltinInfo> builtin_list() {
+  std::vector<BuiltinInfo> list;
+  for (const ModelFamily& f : registry()) list.push_back({f.usage, f.description});
+  list.push_back({"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"});
+  return list;
 }
+
+bool is_builtin_spec(std::string_view spec) { return find_family(spec) != nullptr; }
 
 Complex load_model(const std::string& spec) {
-  const std::string s = lower(spec);
-  if (s == "5-cell" || s == "pentachoron") return make_simplex(4);
-  if (s == "tesseract" || s == "8-cell") return make_cube(4);
-  if (s == "16-cell" || s == "hexadecachoron") return make_orthoplex(4);
-  if (auto diagram = uniform_polychoron_diagram(s)) return make_wythoff(*diagram);
-  const auto colon = s.find(':');
-  if (colon != std::string::npos && is_builtin_spec(s)) {
-    const std::string head = s.substr(0, colon);
-    const std::string_view args = std::string_view(spec).substr(colon + 1);
-    if (head == "prism") return make_product(load_model(std::string(args)), make_segment());
-    if (head == "wythoff") return make_wythoff(args);
-    if (head == "duoprism") {
-      auto v = parse_ints(args, spec, 2);
-      return make_duoprism(v[0], v[1]);
-    }
-    const int n = parse_ints(args, spec, 1)[0];
-    if (head == "simplex") return make_simplex(n);
-    if (head == "cube") return make_cube(n);
-    if (head == "orthoplex") return make_orthoplex(n);
-    if (head == "polygon") return make_polygon(n);
-  }
+  if (const ModelFamily* family = find_family(spec)) return family->make(spec);
   std::error_code ec;
   if (std::filesystem::exists(spec, ec) || spec.find('/') != std::string::npos ||
       spec.find('.') != std::string::npos)

@@ -1,6 +1,7 @@
 #pragma once
 // Built-in polytopes (all centred at the origin, closed, outward oriented) and the model-spec
 // parser shared by the CLI.
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +32,26 @@ struct BuiltinInfo {
   std::string spec;         ///< e.g. "duoprism:P,Q"
   std::string description;
 };
-const std::vector<BuiltinInfo>& builtin_list();
+/// Every registered model family, then the file entry (what `cw4d list` prints).
+std::vector<BuiltinInfo> builtin_list();
+
+/// A family of model specs: a name with aliases ("tesseract", "8-cell") or "HEAD:ARGS".
+/// Libraries outside complex/ (e.g. CGAL hulls in tetrahedralize/) add theirs with
+/// register_model_family, so that load_model and the CLI accept them.
+struct ModelFamily {
+  std::string usage;        ///< as listed, e.g. "duoprism:P,Q"; also the family's identity
+  std::string description;
+  /// Whether a lower-cased spec belongs to this family.
+  std::function<bool(std::string_view lowered)> matches;
+  /// Builds the model of a spec (as the user wrote it). \throw InputError for bad arguments.
+  std::function<Complex(const std::string& spec)> make;
+};
+/// Adds a family (or replaces the one with the same usage). Families are tried in order of
+/// registration, built-ins first. Not thread-safe: register at start-up.
+void register_model_family(ModelFamily family);
+
+/// "1,2,3" -> integers, exactly `count` of them. \throw InputError naming the spec.
+std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::size_t count);
 
 /// True when spec names a built-in ("5-cell", "cube:5", ...), false when it should be a path.
 bool is_builtin_spec(std::string_view spec);
