@@ -111,7 +111,8 @@ double component_volume(const Complex& c, const std::vector<std::uint32_t>& face
   for (auto f : facets) {
     for_each_simplex(c, n - 1, f, [&](std::span<const std::uint32_t> v, int sign) {
       for (int j = 0; j < n; ++j) m.col(j) = p.col(v[j]) - centre;
-      total += sign * m.determinant();
+      total += sign * (n == 4 ? Eigen::Matrix4d(m).determinant()
+                              : n == 3 ? Eigen::Matrix3d(m).determinant() : m.determinant());
     });
   }
   return total;

@@ -10,39 +10,73 @@ namespace cw4d {
 
 namespace {
 
-void simplices_rec(const Complex& c, int rank, std::uint32_t i, std::vector<std::uint32_t>& buf,
-                   const std::function<void(std::span<const std::uint32_t>, int)>& f) {
+bool contains_vertex(const Complex& c, int rank, std::uint32_t i, std::uint32_t v) {
+  if (rank == 0) return i == v;
   if (rank == 1) {
-    auto e = c.edge(i);
-    std::uint32_t v[2] = {e[0], e[1]};
-    f(v, 1);
-    return;
+    const auto e = c.edge(i);
+    return e[0] == v || e[1] == v;
   }
-  if (rank == 2) {
-    std::vector<std::uint32_t> cycle = c.face_cycle(i);
-    for (std::size_t k = 1; k + 1 < cycle.size(); ++k) {
-      std::uint32_t v[3] = {cycle[0], cycle[k], cycle[k + 1]};
-      f(v, 1);
+  for (auto id : c.boundary(rank).ids(i))
+    if (contains_vertex(c, rank - 1, id, v)) return true;
+  return false;
+}
+
+// Emits prefix + the simplices of element i. `prefix` holds the apexes of the enclosing cones
+// (outermost first), `scratch` is reused for face cycles; nothing is allocated per simplex.
+struct SimplexWalker {
+  const Complex& c;
+  const std::function<void(std::span<const std::uint32_t>, int)>& f;
+  std::vector<std::uint32_t> prefix;
+  std::vector<std::uint32_t> cycle;
+
+  void emit(std::initializer_list<std::uint32_t> tail, int sign) {
+    const std::size_t base = prefix.size();
+    prefix.insert(prefix.end(), tail);
+    f(prefix, sign);
+    prefix.resize(base);
+  }
+
+  void walk(int rank, std::uint32_t i, int sign) {
+    if (rank == 1) {
+      const auto e = c.edge(i);
+      emit({e[0], e[1]}, sign);
+      return;
     }
-    return;
+    if (rank == 2) {
+      const Incidence& faces = c.boundary(2);
+      auto ids = faces.ids(i);
+      auto signs = faces.signs(i);
+      cycle.clear();
+      for (std::size_t k = 0; k < ids.size(); ++k) {
+        const auto e = c.edge(ids[k]);
+        cycle.push_back(signs[k] > 0 ? e[0] : e[1]);
+      }
+      for (std::size_t k = 1; k + 1 < cycle.size(); ++k) emit({cycle[0], cycle[k], cycle[k + 1]}, sign);
+      return;
+    }
+    const std::uint32_t apex = c.first_vertex(rank, i);
+    const Incidence& table = c.boundary(rank);
+    auto ids = table.ids(i);
+    auto signs = table.signs(i);
+    prefix.push_back(apex);
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+      // A cone from the apex over a boundary element that contains the apex is flat: skip it
+      // whole (checking only the sub-simplices would keep flat slivers of rounding noise).
+      if (contains_vertex(c, rank - 1, ids[j], apex)) continue;
+      walk(rank - 1, ids[j], sign * signs[j]);
+    }
+    prefix.pop_back();
   }
-  const std::uint32_t apex = c.first_vertex(rank, i);
-  const Incidence& table = c.boundary(rank);
-  auto ids = table.ids(i);
-  auto signs = table.signs(i);
-  for (std::size_t j = 0; j < ids.size(); ++j) {
-    const int sigma = signs[j];
-    // A cone from the apex over a boundary element that contains the apex is flat: skip it
-    // whole (checking only the sub-simplices would keep flat slivers of rounding noise).
-    const auto verts = c.vertices_of(rank - 1, ids[j]);
-    if (std::binary_search(verts.begin(), verts.end(), apex)) continue;
-    simplices_rec(c, rank - 1, ids[j], buf, [&](std::span<const std::uint32_t> sub, int s) {
-      std::vector<std::uint32_t> cone;
-      cone.reserve(sub.size() + 1);
-      cone.push_back(apex);
-      cone.insert(cone.end(), sub.begin(), sub.end());
-      f(cone, sigma * s);
-    });
+};
+
+// det of an n x n matrix; closed forms for n <= 4 (no allocation).
+double det(const Eigen::MatrixXd& m) {
+  switch (m.rows()) {
+    case 1: return m(0, 0);
+    case 2: return Eigen::Matrix2d(m).determinant();
+    case 3: return Eigen::Matrix3d(m).determinant();
+    case 4: return Eigen::Matrix4d(m).determinant();
+    default: return m.determinant();
   }
 }
 
@@ -56,8 +90,8 @@ double factorial(int k) {
 
 void for_each_simplex(const Complex& complex, int rank, std::uint32_t i,
                       const std::function<void(std::span<const std::uint32_t>, int)>& f) {
-  std::vector<std::uint32_t> buf;
-  simplices_rec(complex, rank, i, buf, f);
+  SimplexWalker walker{complex, f, {}, {}};
+  walker.walk(rank, i, 1);
 }
 
 Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u) {
@@ -68,7 +102,7 @@ Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u) {
   for (Eigen::Index j = 0; j < n; ++j) {
     m.col(n - 1).setZero();
     m(j, n - 1) = 1.0;
-    x(j) = m.determinant();
+    x(j) = det(m);
   }
   return x;
 }
@@ -98,7 +132,7 @@ double signed_volume(const Complex& complex) {
   for (std::uint32_t f = 0; f < complex.count(k); ++f) {
     for_each_simplex(complex, k, f, [&](std::span<const std::uint32_t> v, int sign) {
       for (int j = 0; j < n; ++j) m.col(j) = p.col(v[j]) - c;
-      total += sign * m.determinant();
+      total += sign * det(m);
     });
   }
   return total / factorial(n);
