@@ -478,6 +478,11 @@ std::vector<BuiltinInfo> builtin_list() {
 
 bool is_builtin_spec(std::string_view spec) { return find_family(spec) != nullptr; }
 
+std::optional<std::string> model_family(std::string_view spec) {
+  if (const ModelFamily* family = find_family(spec)) return family->usage;
+  return std::nullopt;
+}
+
 Complex load_model(const std::string& spec) {
   if (const ModelFamily* family = find_family(spec)) return family->make(spec);
   std::error_code ec;

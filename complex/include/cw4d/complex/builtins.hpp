@@ -2,6 +2,7 @@
 // Built-in polytopes (all centred at the origin, closed, outward oriented) and the model-spec
 // parser shared by the CLI.
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,10 @@ void register_model_family(ModelFamily family);
 
 /// "1,2,3" -> integers, exactly `count` of them. \throw InputError naming the spec.
 std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::size_t count);
+
+/// The usage string of the family a spec belongs to (e.g. "duoprism:P,Q" for "duoprism:5,7"),
+/// or nothing for file names.
+std::optional<std::string> model_family(std::string_view spec);
 
 /// True when spec names a built-in ("5-cell", "cube:5", ...), false when it should be a path.
 bool is_builtin_spec(std::string_view spec);

@@ -1,0 +1,80 @@
+// Every model family that `cw4d list` offers, through at least one concrete spec: it builds,
+// validates (closed, coherent, outward, planar facets), its facet normals point outward, and it
+// survives a 4OFF round trip. A family added without an example here makes the test fail.
+#include <catch2/catch.hpp>
+
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "support/registration.hpp"
+
+using namespace cw4d;
+
+namespace {
+
+// Concrete specs, at least one per family (convex ones flagged for the outward-normal check).
+struct Example {
+  std::string spec;
+  bool convex;
+};
+
+const std::vector<Example>& examples() {
+  static const std::vector<Example> list = {
+      {"5-cell", true}, {"pentachoron", true}, {"tesseract", true}, {"8-cell", true},
+      {"16-cell", true}, {"24-cell", true}, {"120-cell", true}, {"600-cell", true},
+      {"truncated tesseract", true}, {"rectified 5-cell", true}, {"omnitruncated 24-cell", true},
+      {"simplex:3", true}, {"simplex:5", true}, {"cube:3", true}, {"cube:5", true},
+      {"orthoplex:3", true}, {"orthoplex:5", true}, {"polygon:7", true},
+      {"duoprism:5,7", true}, {"duoprism:3,12", true}, {"prism:simplex:3", true},
+      {"prism:wythoff:x3x3o", true}, {"wythoff:x4o3x", true}, {"wythoff:o3x3x3o", true},
+      {"wythoff:x5o", true},
+  };
+  return list;
+}
+
+}  // namespace
+
+TEST_CASE("every model family has an example that builds, validates and round-trips") {
+  test::register_optional_models();
+  std::set<std::string> covered;
+  for (const Example& ex : examples()) {
+    INFO(ex.spec);
+    const auto family = model_family(ex.spec);
+    REQUIRE(family.has_value());
+    covered.insert(*family);
+    const Complex c = load_model(ex.spec);
+    const ValidationReport report = validate(c);
+    INFO(report.summary());
+    REQUIRE(report.ok());
+    REQUIRE(signed_volume(c) > 0.0);
+    if (ex.convex && c.ambient_dim() >= 2) {
+      // Outward: every vertex lies on the inner side of every facet's hyperplane.
+      const int fr = c.facet_rank();
+      for (std::uint32_t f = 0; f < c.count(fr); ++f) {
+        const Eigen::VectorXd n = c.facet_normals().col(f);
+        const double level = n.dot(c.position(c.first_vertex(fr, f)));
+        const double tol = 1e-9 * (1.0 + max_radius(c));
+        for (std::uint32_t v = 0; v < c.count(0); ++v) REQUIRE(n.dot(c.position(v)) <= level + tol);
+      }
+    }
+    if (c.ambient_dim() >= 3) {
+      std::stringstream text;
+      write_off(text, c);
+      const Complex back = read_off(text, ex.spec);
+      CHECK(back.fvector() == c.fvector());
+      CHECK(back.positions() == c.positions());
+      CHECK(validate(back).ok());
+    }
+  }
+  for (const BuiltinInfo& info : builtin_list()) {
+    if (info.spec.rfind("FILE", 0) == 0) continue;
+    INFO("family without an example: " << info.spec);
+    CHECK(covered.count(info.spec) == 1);
+  }
+}
