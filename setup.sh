@@ -18,6 +18,10 @@ PACKAGES=(
   nlohmann-json3-dev
   catch2
   libbenchmark-dev
+  libcgal-dev
+  libgmp-dev
+  libmpfr-dev
+  libopenmesh-dev
 )
 
 log() { printf 'cw4d: %s\n' "$*" >&2; }

@@ -33,7 +33,15 @@ const std::vector<Example>& examples() {
       {"orthoplex:3", true}, {"orthoplex:5", true}, {"polygon:7", true},
       {"duoprism:5,7", true}, {"duoprism:3,12", true}, {"prism:simplex:3", true},
       {"prism:wythoff:x3x3o", true}, {"wythoff:x4o3x", true}, {"wythoff:o3x3x3o", true},
-      {"wythoff:x5o", true},
+      {"wythoff:x5o", true}, {"pyramid:cube:3", true}, {"pyramid:tesseract", true},
+      {"cone:sphere:1,8", true}, {"cone:cylinder:1,8", true}, {"dual:tesseract", true},
+      {"dual:120-cell", true}, {"antiprism:5", true}, {"prism:antiprism:7", true},
+      {"cylinder:1,8", true}, {"sphere:1.5,8", true}, {"duocylinder:1,12", true},
+      {"cubinder:1,8", true}, {"spherinder:1,8", true},
+      {"extrude:" + std::string(CW4D_TEST_DATA_DIR) + "/cube.obj", true},
+      {"spin:" + std::string(CW4D_TEST_DATA_DIR) + "/offset_cube.off,12", false},
+      {"snub 24-cell", true}, {"grand antiprism", true}, {"glome:1,4", true},
+      {"hull:" + std::string(CW4D_TEST_DATA_DIR) + "/cube_points.txt", true},
   };
   return list;
 }

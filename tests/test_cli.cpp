@@ -10,16 +10,20 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/export/svg.hpp"
 
@@ -556,4 +560,150 @@ TEST_CASE("slice to .svg draws exactly the faces that face the viewer", "[cli]")
   const Result bad = run(dir, {"slice", "cube:3", "--normal", "0,0,1", "--offset", "0", "-o", "x.svg"});
   CHECK(bad.code == 1);
   CHECK(!dir.exists("x.svg"));
+}
+
+// --- scenes --------------------------------------------------------------------------------
+
+namespace {
+
+// Two instances of one model (one with cell colors), a model file next to the scene, and an
+// object the plane misses.
+const char* kCliScene = R"({
+  "objects": [
+    {"model": "tesseract", "name": "left", "scale": 0.5, "rotate": [["xw", 30]],
+     "translate": [-3, 0, 0, 0], "color": "#ff8000", "opacity": 0.5,
+     "cell_colors": {"6": [0, 0, 1]}},
+    {"model": "tesseract", "name": "right", "translate": [3, 0, 0, 0.2], "color": [0, 1, 0]},
+    {"model": "models/simplex.4off", "translate": [0, 0, 0, 9]}
+  ]
+})";
+
+// "newmtl" name -> (Kd, d) as written.
+std::map<std::string, std::string> read_mtl(const fs::path& p) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(read_text(p));
+  std::string line, current;
+  while (std::getline(in, line)) {
+    if (line.rfind("newmtl ", 0) == 0) current = line.substr(7);
+    if (line.rfind("Kd ", 0) == 0 || line.rfind("d ", 0) == 0) out[current] += line + ";";
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("slice --scene writes the objects as one mesh with an MTL of their colors", "[cli]") {
+  TempDir dir;
+  fs::create_directories(dir / "scenes/models");
+  dir.write("scenes/s.json", kCliScene);
+  cw4d::write_off_file((dir / "scenes/models/simplex.4off").string(), cw4d::make_simplex(4));
+  const Result r = run(dir, {"slice", "--scene", "scenes/s.json", "--normal", "0,0,0,1",
+                             "--offset", "0.1", "-o", "out/s.obj"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.err.empty());
+  CHECK(r.out.rfind("wrote out/s.obj and out/s.mtl: 16 vertices, 24 edges, 12 faces", 0) == 0);
+  CHECK(r.out.find("object 0 'left' (tesseract): 8 vertices, 12 edges, 6 faces") !=
+        std::string::npos);
+  CHECK(r.out.find("object 1 'right' (tesseract): 8 vertices, 12 edges, 6 faces, volume 8") !=
+        std::string::npos);
+  CHECK(r.out.find("object 2 (models/simplex.4off): missed by the plane") != std::string::npos);
+
+  // Same geometry as the library's merged section; one material per color, faces under theirs.
+  const cw4d::Scene scene = cw4d::read_scene_file((dir / "scenes/s.json").string());
+  const cw4d::Section expect =
+      cw4d::section_scene(scene, cw4d::Hyperplane::from(vec({0, 0, 0, 1}), 0.1));
+  const Obj obj = read_obj(dir / "out/s.obj");
+  REQUIRE(obj.v.size() == expect.complex.count(0));
+  REQUIRE(obj.f.size() == expect.complex.count(2));
+  const auto materials = read_mtl(dir / "out/s.mtl");
+  CHECK(materials.size() == 3);  // orange (half transparent), blue cell 6 (too), green
+  CHECK(materials.at("color_0") == "Kd 1 0.5019608 0;d 0.5;");
+  std::set<std::string> used;
+  std::istringstream in(read_text(dir / "out/s.obj"));
+  std::string line, current;
+  std::uint32_t f = 0;
+  CHECK(read_text(dir / "out/s.obj").find("mtllib s.mtl\n") != std::string::npos);
+  while (std::getline(in, line)) {
+    if (line.rfind("usemtl ", 0) == 0) current = line.substr(7);
+    if (line.rfind("f ", 0) != 0) continue;
+    const cw4d::Rgba c = expect.complex.colors(2)[f];
+    const std::string object = expect.object_of_face[f] == 0 ? "left" : "right";
+    INFO("face " << f << " of " << object << ", cell " << expect.source[2][f]);
+    REQUIRE(materials.count(current));
+    const std::string want = c == cw4d::Rgba{0, 0, 1, 0.5f}   ? "Kd 0 0 1;d 0.5;"
+                             : c == cw4d::Rgba{0, 1, 0, 1.0f} ? "Kd 0 1 0;d 1;"
+                                                               : "Kd 1 0.5019608 0;d 0.5;";
+    CHECK(materials.at(current) == want);
+    if (expect.object_of_face[f] == 1) CHECK(want == "Kd 0 1 0;d 1;");
+    if (expect.source[2][f] == 6 && expect.object_of_face[f] == 0)
+      CHECK(want == "Kd 0 0 1;d 0.5;");
+    used.insert(current);
+    ++f;
+  }
+  CHECK(used.size() == 3);
+
+  // nOFF keeps the colors.
+  const Result off = run(dir, {"slice", "--scene", "scenes/s.json", "--normal", "0,0,0,1",
+                               "--offset", "0.1", "-o", "s.off"});
+  REQUIRE(off.code == 0);
+  CHECK(cw4d::read_off_file((dir / "s.off").string()).colors(2).size() == 12);
+}
+
+TEST_CASE("a bad scene exits 2 naming file:line and writes nothing", "[cli]") {
+  TempDir dir;
+  const std::vector<std::pair<std::string, int>> scenes = {
+      {"{\"objects\": [\n{\"model\": \"tesseract\"\n{\"model\": \"5-cell\"}]}", 3},
+      {"{\"objects\": [{\"model\": \"tesseract\",\n\"colour\": \"#ff0000\"}]}", 2},
+      {"{\"objects\": [{\"model\": \"tesseract\",\n\n\"opacity\": 3}]}", 3},
+      {"{\"objects\": [{\"model\": \"tesseract\", \"cell_colors\": {\n\"99\": \"#ff0000\"}}]}", 2},
+      {"{\"objects\": [\n{\"model\": \"tessaract\"}]}", 2},
+  };
+  for (const auto& [text, line] : scenes) {
+    INFO(text);
+    dir.write("bad.json", text);
+    for (const char* out : {"x.obj", "x.svg", "x.4off"}) {
+      const Result r = run(dir, {"slice", "--scene", "bad.json", "--normal", "0,0,0,1",
+                                 "--offset", "0", "-o", out});
+      CHECK(r.code == 2);
+      check_one_error_line(r);
+      CHECK(r.err.find("bad.json:" + std::to_string(line) + ":") != std::string::npos);
+      CHECK(!dir.exists(out));
+      CHECK(!dir.exists("x.mtl"));
+    }
+  }
+  const Result missing = run(dir, {"slice", "--scene", "none.json", "--normal", "0,0,0,1",
+                                   "--offset", "0", "-o", "x.obj"});
+  CHECK(missing.code == 2);
+  CHECK(missing.err.find("none.json:0:") != std::string::npos);
+}
+
+TEST_CASE("slice rejects a scene together with MODEL, --rotate or --translate", "[cli]") {
+  TempDir dir;
+  dir.write("s.json", "{\"objects\": [{\"model\": \"tesseract\"}]}");
+  const std::vector<std::vector<std::string>> commands = {
+      {"slice", "tesseract", "--scene", "s.json", "--normal", "0,0,0,1", "--offset", "0", "-o",
+       "x.obj"},
+      {"slice", "--scene", "s.json", "--rotate", "xw:30", "--normal", "0,0,0,1", "--offset", "0",
+       "-o", "x.obj"},
+      {"slice", "--scene", "s.json", "--translate", "0,0,0,1", "--normal", "0,0,0,1", "--offset",
+       "0", "-o", "x.obj"},
+      {"slice", "--normal", "0,0,0,1", "--offset", "0", "-o", "x.obj"},
+      {"slice", "--scene", "s.json", "--normal", "0,0,1", "--offset", "0", "-o", "x.obj"},
+  };
+  for (const auto& cmd : commands) {
+    std::string text;
+    for (const auto& a : cmd) text += a + " ";
+    INFO("cw4d " << text);
+    const Result r = run(dir, cmd);
+    CHECK(r.code == 1);
+    check_one_error_line(r);
+    CHECK(!dir.exists("x.obj"));
+    CHECK(!dir.exists("x.mtl"));
+  }
+  // The scene's plane misses everything: exit 5, as for a model.
+  const Result empty = run(dir, {"slice", "--scene", "s.json", "--normal", "0,0,0,1", "--offset",
+                                 "7", "-o", "x.obj"});
+  CHECK(empty.code == 5);
+  CHECK(!dir.exists("x.obj"));
 }

@@ -27,12 +27,15 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/export/obj.hpp"
 #include "cw4d/export/svg.hpp"
 #include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/tetrahedralize/hull.hpp"
 
 namespace {
 
@@ -82,6 +85,7 @@ enum class Format { obj, off, svg };
 
 struct SliceSettings {
   std::string model;
+  std::string scene;  // a scene file instead of a model (exactly one of the two is given)
   std::vector<double> normal;
   double offset = 0.0;
   std::vector<Rotation> rotations;  // applied in the order given
@@ -288,7 +292,8 @@ void run_info(const InfoSettings& s) {
 
 // Checks that need the model's dimension.
 void check_against_model(const SliceSettings& s, int dim) {
-  const std::string where = "model '" + s.model + "' lives in R^" + std::to_string(dim);
+  const std::string where = (s.scene.empty() ? "model '" + s.model : "scene '" + s.scene) +
+                            "' lives in R^" + std::to_string(dim);
   if (s.normal.size() != static_cast<std::size_t>(dim))
     throw cw4d::InputError("--normal has " + std::to_string(s.normal.size()) + " components but " +
                            where + ": give " + std::to_string(dim) + " comma-separated numbers");
@@ -323,7 +328,61 @@ cw4d::AffineTransform model_to_world(const SliceSettings& s, int dim) {
   return m;
 }
 
+// "object 1 'left' (tesseract)"
+std::string object_label(const cw4d::SceneObject& obj, std::size_t i) {
+  return "object " + std::to_string(i) + (obj.name.empty() ? "" : " '" + obj.name + "'") + " (" +
+         obj.model + ")";
+}
+
+void run_slice_scene(const SliceSettings& s) {
+  const cw4d::Scene scene = cw4d::read_scene_file(s.scene);
+  const int dim = scene.dim();
+  check_against_model(s, dim);
+  std::vector<const cw4d::Complex*> checked;  // objects share models: validate each once
+  for (const auto& obj : scene.objects) {
+    if (std::find(checked.begin(), checked.end(), obj.complex.get()) != checked.end()) continue;
+    require_valid(*obj.complex, obj.model);
+    checked.push_back(obj.complex.get());
+  }
+  const cw4d::Hyperplane plane =
+      cw4d::Hyperplane::from(Eigen::Map<const Eigen::VectorXd>(s.normal.data(), dim), s.offset);
+  const std::vector<cw4d::Section> pieces = cw4d::section_objects(scene, plane);
+  const cw4d::Section sec = cw4d::merge_sections(scene, pieces);
+  const std::string cut = "n=(" + join(s.normal, brief) + "), d=" + brief(s.offset);
+  if (sec.empty())
+    throw EmptySection("the plane " + cut + " misses every object of scene '" + s.scene +
+                       "'; nothing written to '" + s.output + "'");
+
+  prepare_output_directory(s.output);
+  std::string written = s.output;
+  if (s.format == Format::obj) {
+    cw4d::ObjOptions opt;
+    opt.triangulate = s.triangulate;
+    opt.comment = "cw4d slice of scene " + s.scene + "\nplane: n=(" + join(s.normal, exact) +
+                  "), d=" + exact(s.offset) + " (world space, n normalized)";
+    cw4d::write_obj_file(s.output, sec, opt);
+    if (!cw4d::mtl_text(sec.complex).empty())
+      written += " and " + fs::path(s.output).replace_extension(".mtl").string();
+  } else if (s.format == Format::svg) {
+    cw4d::write_svg_file(s.output, sec);
+  } else {
+    cw4d::write_off_file(s.output, sec.complex);
+  }
+  std::cout << "wrote " << written << ": " << describe_counts(sec.complex) << ", volume "
+            << brief(cw4d::signed_volume(sec.complex)) << " (scene " << s.scene << ", "
+            << scene.objects.size() << " objects, cut by " << cut << ")\n";
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const cw4d::Complex& c = pieces[i].complex;
+    std::cout << "  " << object_label(scene.objects[i], i) << ": ";
+    if (pieces[i].empty())
+      std::cout << "missed by the plane\n";
+    else
+      std::cout << describe_counts(c) << ", volume " << brief(cw4d::signed_volume(c)) << '\n';
+  }
+}
+
 void run_slice(const SliceSettings& s) {
+  if (!s.scene.empty()) return run_slice_scene(s);
   const cw4d::Complex model = load(s.model);
   const int dim = model.ambient_dim();
   check_against_model(s, dim);
@@ -380,6 +439,16 @@ void run_convert(const ConvertSettings& s) {
 
 // Everything that can be checked without the model is checked here, before loading it.
 void parse_slice_settings(const SliceArgs& args, SliceSettings& s) {
+  if (!s.scene.empty() && !s.model.empty())
+    throw cw4d::InputError("give a MODEL or --scene, not both ('" + s.model + "' and --scene " +
+                           s.scene + ")");
+  if (s.scene.empty() && s.model.empty())
+    throw cw4d::InputError("slice needs a MODEL or --scene FILE");
+  // A scene places its objects itself; a second transform on top would be ambiguous.
+  if (!s.scene.empty() && (!args.rotate.empty() || !args.translate.empty()))
+    throw cw4d::InputError(std::string(args.rotate.empty() ? "--translate" : "--rotate") +
+                           " contradicts --scene: the scene file places its objects "
+                           "(use \"rotate\" / \"translate\" there)");
   s.normal = parse_vector(args.normal, "--normal");
   bool all_zero = true;
   for (double x : s.normal) all_zero = all_zero && x == 0.0;
@@ -414,6 +483,7 @@ int fail(Exit code, const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  cw4d::register_hull_models();
   CLI::App app{"cw4d: 4D polytopes as CW complexes, cut by hyperplanes into 3D meshes.", "cw4d"};
   app.footer(kExitCodes);
   app.require_subcommand(1);
@@ -437,9 +507,13 @@ int main(int argc, char** argv) {
   SliceArgs slice_args;
   auto* slice_cmd =
       app.add_subcommand("slice", "Cut a model with the hyperplane n.x = d and write the section.");
+  slice_cmd->add_option("MODEL", slice.model,
+                        "Built-in spec (see 'cw4d list') or a .4off/.off file; or give --scene");
   slice_cmd
-      ->add_option("MODEL", slice.model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
-      ->required();
+      ->add_option("--scene", slice.scene,
+                   "JSON scene file: several placed, colored models, cut together (instead of "
+                   "MODEL; not with --rotate/--translate)")
+      ->type_name("FILE");
   slice_cmd
       ->add_option("--normal", slice_args.normal,
                    "Plane normal in world space, one component per model axis (x,y,z,w); "
@@ -472,6 +546,15 @@ int main(int argc, char** argv) {
       "line elements for a 3D model), .svg (a flat-shaded picture of a 4D model's section),\n"
       ".4off/.off/.noff (the section as an nOFF complex). Missing parent directories of the output are created.\n"
       "An empty section (the plane misses the model) writes nothing and exits 5.\n"
+      "With --scene FILE every object of the scene is placed by its own transform and cut by the\n"
+      "same plane; the pieces are written as one mesh with the objects' colors (.obj gets a\n"
+      ".mtl of the same name, .svg and nOFF carry the face colors) and a line per object is\n"
+      "printed. Scene format, e.g.:\n"
+      "  {\"objects\": [{\"model\": \"tesseract\", \"rotate\": [[\"xw\", 30]],\n"
+      "                \"translate\": [1, 0, 0, 0], \"scale\": 0.5, \"color\": \"#ff8000\",\n"
+      "                \"opacity\": 0.5, \"cell_colors\": {\"3\": [0, 0, 1]}, \"name\": \"a\"}]}\n"
+      "(degrees; scale, then rotations in order, then translation; model paths are relative to\n"
+      "the scene file). A malformed scene exits 2 naming file:line.\n"
       "Exit codes: see 'cw4d --help'.");
 
   // convert

@@ -7,10 +7,13 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/mesh_import.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/wythoff.hpp"
 
 namespace cw4d {
@@ -211,8 +214,8 @@ Complex make_cube(int n) {
 }
 
 Complex make_polygon(int p) {
-  if (p < 3 || p > 1000000) throw InputError("polygon needs 3 to 1000000 sides, got " +
-                                             std::to_string(p));
+  if (p < 3 || p > 1000000)
+    throw InputError("polygon needs 3 to 1000000 sides, got " + std::to_string(p));
   ComplexSoup soup;
   soup.ambient_dim = 2;
   soup.positions.resize(2, p);
@@ -331,6 +334,26 @@ int parse_int(std::string_view text, std::string_view spec) {
   return value;
 }
 
+// "R,N" of the round shapes: a positive real radius and an integer resolution.
+std::pair<double, int> parse_radius_resolution(std::string_view args, std::string_view spec) {
+  const std::size_t comma = args.find(',');
+  const std::string_view text = args.substr(0, comma);
+  double r = 0.0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), r);
+  if (comma == std::string_view::npos || ec != std::errc() || ptr != text.data() + text.size())
+    throw InputError("model spec '" + std::string(spec) +
+                     "' expects R,N (a radius and an integer)");
+  return {r, parse_ints(args.substr(comma + 1), spec, 1)[0]};
+}
+
+// "FILE,STEPS" of spin: the path is everything before the last comma.
+std::pair<std::string, int> parse_file_steps(std::string_view args, std::string_view spec) {
+  const std::size_t comma = args.rfind(',');
+  if (comma == std::string_view::npos || comma == 0)
+    throw InputError("model spec '" + std::string(spec) + "' expects FILE,STEPS");
+  return {std::string(args.substr(0, comma)), parse_ints(args.substr(comma + 1), spec, 1)[0]};
+}
+
 std::string lower(std::string_view s) {
   std::string out(s);
   for (auto& ch : out) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -342,9 +365,10 @@ std::string head_of(std::string_view lowered) {
   return colon == std::string_view::npos ? std::string() : std::string(lowered.substr(0, colon));
 }
 
-// A family of specs that are one name (with aliases).
-ModelFamily named(std::vector<std::string> names, std::string description,
-                  std::function<Complex()> make) {
+}  // namespace
+
+ModelFamily named_family(std::vector<std::string> names, std::string description,
+                         std::function<Complex()> make) {
   ModelFamily f;
   f.usage = names.front();
   f.description = std::move(description);
@@ -355,9 +379,9 @@ ModelFamily named(std::vector<std::string> names, std::string description,
   return f;
 }
 
-// A family of specs "HEAD:ARGS".
-ModelFamily parametric(std::string head, std::string usage, std::string description,
-                       std::function<Complex(const std::string& spec, std::string_view args)> make) {
+ModelFamily parametric_family(
+    std::string head, std::string usage, std::string description,
+    std::function<Complex(const std::string& spec, std::string_view args)> make) {
   ModelFamily f;
   f.usage = std::move(usage);
   f.description = std::move(description);
@@ -368,19 +392,22 @@ ModelFamily parametric(std::string head, std::string usage, std::string descript
   return f;
 }
 
+namespace {
+
 std::vector<ModelFamily> default_families() {
   std::vector<ModelFamily> f;
-  f.push_back(named({"5-cell", "pentachoron"}, "regular 4-simplex, circumradius 1",
-                    [] { return make_simplex(4); }));
-  f.push_back(named({"tesseract", "8-cell"}, "4-cube [-1,1]^4", [] { return make_cube(4); }));
-  f.push_back(named({"16-cell", "hexadecachoron"}, "4-orthoplex with vertices +-e_i",
-                    [] { return make_orthoplex(4); }));
-  f.push_back(named({"24-cell", "icositetrachoron"}, "wythoff:x3o4o3o, edge 2",
-                    [] { return make_wythoff("x3o4o3o"); }));
-  f.push_back(named({"120-cell", "hecatonicosachoron"}, "wythoff:x5o3o3o, edge 2",
-                    [] { return make_wythoff("x5o3o3o"); }));
-  f.push_back(named({"600-cell", "hexacosichoron"}, "wythoff:x3o3o5o, edge 2",
-                    [] { return make_wythoff("x3o3o5o"); }));
+  f.push_back(named_family({"5-cell", "pentachoron"}, "regular 4-simplex, circumradius 1",
+                           [] { return make_simplex(4); }));
+  f.push_back(
+      named_family({"tesseract", "8-cell"}, "4-cube [-1,1]^4", [] { return make_cube(4); }));
+  f.push_back(named_family({"16-cell", "hexadecachoron"}, "4-orthoplex with vertices +-e_i",
+                           [] { return make_orthoplex(4); }));
+  f.push_back(named_family({"24-cell", "icositetrachoron"}, "wythoff:x3o4o3o, edge 2",
+                           [] { return make_wythoff("x3o4o3o"); }));
+  f.push_back(named_family({"120-cell", "hecatonicosachoron"}, "wythoff:x5o3o3o, edge 2",
+                           [] { return make_wythoff("x5o3o3o"); }));
+  f.push_back(named_family({"600-cell", "hexacosichoron"}, "wythoff:x3o3o5o, edge 2",
+                           [] { return make_wythoff("x3o3o5o"); }));
   {
     ModelFamily u;
     u.usage = "OPERATION BASE";
@@ -396,36 +423,102 @@ std::vector<ModelFamily> default_families() {
     };
     f.push_back(std::move(u));
   }
-  f.push_back(parametric("simplex", "simplex:N", "regular N-simplex, circumradius 1 (N = 2..12)",
-                         [](const std::string& spec, std::string_view a) {
-                           return make_simplex(parse_ints(a, spec, 1)[0]);
-                         }));
-  f.push_back(parametric("cube", "cube:N", "N-cube [-1,1]^N (N = 2..10)",
-                         [](const std::string& spec, std::string_view a) {
-                           return make_cube(parse_ints(a, spec, 1)[0]);
-                         }));
-  f.push_back(parametric("orthoplex", "orthoplex:N", "N-orthoplex, vertices +-e_i (N = 2..10)",
-                         [](const std::string& spec, std::string_view a) {
-                           return make_orthoplex(parse_ints(a, spec, 1)[0]);
-                         }));
-  f.push_back(parametric("polygon", "polygon:P", "regular P-gon in the plane, circumradius 1",
-                         [](const std::string& spec, std::string_view a) {
-                           return make_polygon(parse_ints(a, spec, 1)[0]);
-                         }));
-  f.push_back(parametric("duoprism", "duoprism:P,Q",
-                         "product of a regular P-gon and a regular Q-gon (P, Q >= 3)",
-                         [](const std::string& spec, std::string_view a) {
-                           const auto v = parse_ints(a, spec, 2);
-                           return make_duoprism(v[0], v[1]);
-                         }));
-  f.push_back(parametric("prism", "prism:MODEL",
-                         "MODEL x [-1,1]: the prism over any model spec or file",
-                         [](const std::string&, std::string_view a) {
-                           return make_product(load_model(std::string(a)), make_segment());
-                         }));
-  f.push_back(parametric("wythoff", "wythoff:DIAGRAM",
-                         "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2",
-                         [](const std::string&, std::string_view a) { return make_wythoff(a); }));
+  f.push_back(parametric_family("simplex", "simplex:N",
+                                "regular N-simplex, circumradius 1 (N = 2..12)",
+                                [](const std::string& spec, std::string_view a) {
+                                  return make_simplex(parse_ints(a, spec, 1)[0]);
+                                }));
+  f.push_back(parametric_family("cube", "cube:N", "N-cube [-1,1]^N (N = 2..10)",
+                                [](const std::string& spec, std::string_view a) {
+                                  return make_cube(parse_ints(a, spec, 1)[0]);
+                                }));
+  f.push_back(parametric_family("orthoplex", "orthoplex:N",
+                                "N-orthoplex, vertices +-e_i (N = 2..10)",
+                                [](const std::string& spec, std::string_view a) {
+                                  return make_orthoplex(parse_ints(a, spec, 1)[0]);
+                                }));
+  f.push_back(parametric_family("polygon", "polygon:P",
+                                "regular P-gon in the plane, circumradius 1",
+                                [](const std::string& spec, std::string_view a) {
+                                  return make_polygon(parse_ints(a, spec, 1)[0]);
+                                }));
+  f.push_back(parametric_family("duoprism", "duoprism:P,Q",
+                                "product of a regular P-gon and a regular Q-gon (P, Q >= 3)",
+                                [](const std::string& spec, std::string_view a) {
+                                  const auto v = parse_ints(a, spec, 2);
+                                  return make_duoprism(v[0], v[1]);
+                                }));
+  f.push_back(parametric_family("prism", "prism:MODEL",
+                                "MODEL x [-1,1]: the prism over any model spec or file",
+                                [](const std::string&, std::string_view a) {
+                                  return make_product(load_model(std::string(a)), make_segment());
+                                }));
+  f.push_back(parametric_family("pyramid", "pyramid:MODEL",
+                                "pyramid over any closed model: base at last coordinate 0, apex at "
+                                "height 2 above the vertex centroid (one dimension up)",
+                                [](const std::string&, std::string_view a) {
+                                  return make_pyramid(load_model(std::string(a)), 2.0);
+                                }));
+  f.push_back(
+      parametric_family("cone", "cone:MODEL",
+                        "pyramid over a model with height half its largest bounding-box side, "
+                        "e.g. cone:sphere:1,16 (spherone), cone:cylinder:1,16 (cylindrone)",
+                        [](const std::string&, std::string_view a) {
+                          return make_cone(load_model(std::string(a)));
+                        }));
+  f.push_back(parametric_family("dual", "dual:MODEL",
+                                "polar dual of a convex model about its vertex centroid, scaled to "
+                                "the same circumradius, e.g. dual:120-cell is a 600-cell",
+                                [](const std::string&, std::string_view a) {
+                                  return make_dual_same_size(load_model(std::string(a)));
+                                }));
+  f.push_back(parametric_family("antiprism", "antiprism:N",
+                                "uniform 3D N-gonal antiprism, edge 2, axis z (N >= 3); "
+                                "prism:antiprism:N is the uniform antiprismatic prism",
+                                [](const std::string& spec, std::string_view a) {
+                                  return make_antiprism(parse_ints(a, spec, 1)[0]);
+                                }));
+  auto add_round = [&f](const char* head, const char* usage, const char* description,
+                        Complex (*make)(double, int)) {
+    f.push_back(parametric_family(head, usage, description,
+                                  [make](const std::string& spec, std::string_view a) {
+                                    const auto [r, n] = parse_radius_resolution(a, spec);
+                                    return make(r, n);
+                                  }));
+  };
+  add_round("cylinder", "cylinder:R,N",
+            "3D: N-gon of circumradius R (xy) x [-R,R] (z), N = 3..1000", make_cylinder);
+  add_round("sphere", "sphere:R,N",
+            "3D convex polyhedral sphere of radius R: N segments around z, N/2 bands (planar "
+            "triangles and trapezoids), N = 3..1000",
+            make_uv_sphere);
+  add_round("duocylinder", "duocylinder:R,N",
+            "N-gon x N-gon, both of circumradius R (-> duocylinder, volume pi^2 R^4), N = 3..1000",
+            make_duocylinder);
+  add_round("cubinder", "cubinder:R,N",
+            "N-gon of circumradius R x square [-R,R]^2 (-> cubinder, volume 4 pi R^4), N = 3..1000",
+            make_cubinder);
+  add_round("spherinder", "spherinder:R,N",
+            "sphere:R,N x [-R,R] (-> spherinder, volume 8/3 pi R^4), N = 3..1000", make_spherinder);
+  f.push_back(
+      parametric_family("extrude", "extrude:FILE",
+                        "4D prism (height 2) over a closed polyhedron read from an OBJ, OFF, "
+                        "PLY or STL file",
+                        [](const std::string&, std::string_view a) {
+                          return make_prism(read_polyhedron(std::string(a)), 2.0);
+                        }));
+  f.push_back(
+      parametric_family("spin", "spin:FILE,STEPS",
+                        "4D solid of revolution of a closed polyhedron (OBJ/OFF/PLY/STL) lying "
+                        "in x >= 0, turned in the xw plane around the yz plane in STEPS steps",
+                        [](const std::string& spec, std::string_view a) {
+                          const auto [file, steps] = parse_file_steps(a, spec);
+                          return make_spin(read_polyhedron(file), steps);
+                        }));
+  f.push_back(
+      parametric_family("wythoff", "wythoff:DIAGRAM",
+                        "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2",
+                        [](const std::string&, std::string_view a) { return make_wythoff(a); }));
   return f;
 }
 
@@ -476,7 +569,9 @@ std::vector<BuiltinInfo> builtin_list() {
   return list;
 }
 
-bool is_builtin_spec(std::string_view spec) { return find_family(spec) != nullptr; }
+bool is_builtin_spec(std::string_view spec) {
+  return find_family(spec) != nullptr;
+}
 
 std::optional<std::string> model_family(std::string_view spec) {
   if (const ModelFamily* family = find_family(spec)) return family->usage;

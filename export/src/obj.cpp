@@ -1,7 +1,10 @@
 #include "cw4d/export/obj.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "cw4d/complex/atomic_file.hpp"
@@ -18,7 +21,35 @@ void number(std::string& out, double v) {
   out.append(buf, ptr);
 }
 
-std::string write(const Complex& c, const std::vector<std::uint32_t>* group_of_face,
+// Colors are floats: their shortest form, not that of the double they widen to.
+void number(std::string& out, float v) {
+  char buf[64];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  out.push_back(' ');
+  out.append(buf, ptr);
+}
+
+// Distinct face colors in order of first use, and each face's index among them.
+struct Materials {
+  std::vector<Rgba> colors;
+  std::vector<std::uint32_t> of_face;
+};
+
+Materials materials(const Complex& c) {
+  Materials m;
+  const std::size_t nf = c.top_rank() >= 2 ? c.count(2) : 0;
+  const auto& colors = c.colors(2);
+  if (nf == 0 || colors.size() != nf) return m;
+  for (const Rgba& col : colors) {
+    auto it = std::find(m.colors.begin(), m.colors.end(), col);
+    if (it == m.colors.end()) it = m.colors.insert(m.colors.end(), col);
+    m.of_face.push_back(static_cast<std::uint32_t>(it - m.colors.begin()));
+  }
+  return m;
+}
+
+// group_of_face: a label per face ("cell_3"); a new `g` line starts where the label changes.
+std::string write(const Complex& c, const std::vector<std::string>* group_of_face,
                   const ObjOptions& opt) {
   const int dim = c.ambient_dim();
   if (dim != 2 && dim != 3)
@@ -57,15 +88,24 @@ std::string write(const Complex& c, const std::vector<std::uint32_t>* group_of_f
     }
     return out;
   }
-  std::uint32_t current_group = 0xffffffffu;
+  const Materials mats = opt.material_library.empty() ? Materials{} : materials(c);
+  if (!mats.colors.empty()) out += "mtllib " + opt.material_library + "\n";
+  const std::string* current_group = nullptr;
+  std::uint32_t current_material = 0xffffffffu;
   auto corner = [&](std::uint32_t v, std::uint32_t f) {
     out += ' ' + std::to_string(v + 1);
     if (normals) out += "//" + std::to_string(f + 1);
   };
   for (std::uint32_t f = 0; f < nf; ++f) {
-    if (group_of_face && opt.group_by_source && (*group_of_face)[f] != current_group) {
-      current_group = (*group_of_face)[f];
-      out += "g cell_" + std::to_string(current_group) + "\n";
+    if (group_of_face && opt.group_by_source &&
+        (!current_group || (*group_of_face)[f] != *current_group)) {
+      current_group = &(*group_of_face)[f];
+      out += "g " + *current_group + "\n";
+      current_material = 0xffffffffu;  // some readers reset the material per group
+    }
+    if (!mats.colors.empty() && mats.of_face[f] != current_material) {
+      current_material = mats.of_face[f];
+      out += "usemtl color_" + std::to_string(current_material) + "\n";
     }
     const auto cyc = c.face_cycle(f);
     if (opt.triangulate) {
@@ -92,15 +132,56 @@ std::string obj_text(const Complex& complex, const ObjOptions& options) {
 }
 
 std::string obj_text(const Section& section, const ObjOptions& options) {
-  const std::vector<std::uint32_t>* groups =
-      section.source.size() > 2 && section.source[2].size() == section.complex.count(2)
-          ? &section.source[2]
-          : nullptr;
-  return write(section.complex, groups, options);
+  const std::size_t nf = section.complex.count(2);
+  if (section.source.size() <= 2 || section.source[2].size() != nf)
+    return write(section.complex, nullptr, options);
+  // Cell ids repeat between the objects of a scene, so their groups name the object too.
+  const bool objects = section.object_of_face.size() == nf;
+  std::vector<std::string> groups(nf);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    groups[f] = (objects ? "object_" + std::to_string(section.object_of_face[f]) + "_" : "") +
+                "cell_" + std::to_string(section.source[2][f]);
+  return write(section.complex, &groups, options);
+}
+
+std::string mtl_text(const Complex& complex) {
+  const Materials mats = materials(complex);
+  if (mats.colors.empty()) return {};
+  std::string out = "# cw4d face colors\n";
+  for (std::size_t k = 0; k < mats.colors.size(); ++k) {
+    const Rgba& col = mats.colors[k];
+    out += "\nnewmtl color_" + std::to_string(k) + "\nKd";
+    number(out, col.r);
+    number(out, col.g);
+    number(out, col.b);
+    out += "\nd";
+    number(out, col.a);
+    out += "\nillum 1\n";  // diffuse only
+  }
+  return out;
 }
 
 void write_obj_file(const std::string& path, const Section& section, const ObjOptions& options) {
-  write_file_atomically(path, obj_text(section, options));
+  const std::string mtl = mtl_text(section.complex);
+  if (mtl.empty()) {
+    write_file_atomically(path, obj_text(section, options));
+    return;
+  }
+  namespace fs = std::filesystem;
+  const fs::path mtl_path = fs::path(path).replace_extension(".mtl");
+  if (mtl_path == fs::path(path))
+    throw InputError("cannot write '" + path + "': its materials would go to the same file");
+  ObjOptions opt = options;
+  opt.material_library = mtl_path.filename().string();
+  const std::string obj = obj_text(section, opt);  // may throw: before anything is written
+  write_file_atomically(mtl_path.string(), mtl);
+  try {
+    write_file_atomically(path, obj);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(mtl_path, ignored);
+    throw;
+  }
 }
 
 }  // namespace cw4d

@@ -80,16 +80,31 @@ std::string svg_text(const Section& section, const SvgOptions& opt) {
   out += buf;
   out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
   const bool have_source = section.source.size() > 2 && section.source[2].size() == nf;
+  // Face colors (a scene's) win over the per-cell hues; their alpha becomes fill-opacity.
+  const auto& colors = c.colors(2);
+  const bool have_colors = colors.size() == nf;
   for (const Poly& poly : polys) {
     const Eigen::Vector3d n = c.facet_normals().col(poly.face);
     const double lambert = std::max(0.0, n.dot(light));
-    const Eigen::Vector3d col =
-        (0.35 + 0.65 * lambert) * cell_color(have_source ? section.source[2][poly.face] : poly.face);
+    Eigen::Vector3d base;
+    double opacity = 1.0;
+    if (have_colors) {
+      const Rgba& rgba = colors[poly.face];
+      base = Eigen::Vector3d(rgba.r, rgba.g, rgba.b);
+      opacity = std::clamp(static_cast<double>(rgba.a), 0.0, 1.0);
+    } else {
+      base = cell_color(have_source ? section.source[2][poly.face] : poly.face);
+    }
+    const Eigen::Vector3d col = (0.35 + 0.65 * lambert) * base;
     std::snprintf(buf, sizeof buf, "<polygon fill=\"#%02x%02x%02x\"",
                   static_cast<int>(std::clamp(col.x(), 0.0, 1.0) * 255.0 + 0.5),
                   static_cast<int>(std::clamp(col.y(), 0.0, 1.0) * 255.0 + 0.5),
                   static_cast<int>(std::clamp(col.z(), 0.0, 1.0) * 255.0 + 0.5));
     out += buf;
+    if (opacity < 1.0) {
+      std::snprintf(buf, sizeof buf, " fill-opacity=\"%.3f\"", opacity);
+      out += buf;
+    }
     out += opt.edges ? " stroke=\"#202020\" stroke-width=\"1.2\" stroke-linejoin=\"round\""
                      : "";
     out += " points=\"";

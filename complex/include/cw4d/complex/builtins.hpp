@@ -47,6 +47,14 @@ struct ModelFamily {
   /// Builds the model of a spec (as the user wrote it). \throw InputError for bad arguments.
   std::function<Complex(const std::string& spec)> make;
 };
+/// A family of one name with aliases (lower case); `names.front()` is its usage.
+ModelFamily named_family(std::vector<std::string> names, std::string description,
+                         std::function<Complex()> make);
+/// A family of specs "HEAD:ARGS" (head in lower case); make gets the spec and the ARGS part.
+ModelFamily parametric_family(
+    std::string head, std::string usage, std::string description,
+    std::function<Complex(const std::string& spec, std::string_view args)> make);
+
 /// Adds a family (or replaces the one with the same usage). Families are tried in order of
 /// registration, built-ins first. Not thread-safe: register at start-up.
 void register_model_family(ModelFamily family);

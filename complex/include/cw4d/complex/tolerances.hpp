@@ -34,4 +34,16 @@ inline constexpr double wythoff_same_vertex_rel = 1e-7;
 /// I2(10000), is about 5e-8.
 inline constexpr double wythoff_positive_definite_min = 1e-12;
 
+/// Scenes: an object is not cut when the plane's distance from its bounding sphere's centre
+/// exceeds the radius by more than bounding_sphere_margin_rel * (radius + |centre|). Skipping
+/// is only a shortcut, so the margin errs towards cutting (the section decides exactly).
+inline constexpr double bounding_sphere_margin_rel = 1e-9;
+
+/// Convex hulls (tetrahedralize/hull): a point within hull_coplanar_rel * R of a hull facet's
+/// hyperplane lies on that facet, and points closer than that to each other are one point, where
+/// R is the radius of the point set about its centroid. Golden-ratio coordinates computed in
+/// double are off by ~1e-15 R; the flattest genuine dihedral in the built-in hulls (glome:R,24)
+/// bends by a sagitta above 1e-4 R.
+inline constexpr double hull_coplanar_rel = 1e-9;
+
 }  // namespace cw4d::tol

@@ -1,5 +1,7 @@
 #pragma once
-// Wavefront OBJ export of 3D (or 2D, padded with z = 0) complexes such as sections.
+// Wavefront OBJ export of 3D (or 2D, padded with z = 0) complexes such as sections. Face colors
+// (complex.colors(2), e.g. from a scene) go to a companion .mtl file: one material per distinct
+// color, "color_<k>" numbered in order of first use, with `Kd r g b` and `d opacity`.
 #include <string>
 
 #include "cw4d/complex/complex.hpp"
@@ -14,6 +16,9 @@ struct ObjOptions {
   bool group_by_source = true;
   /// Comment lines written at the top (each prefixed with "# ").
   std::string comment;
+  /// File name of the material library: when set and the faces have colors, the OBJ says
+  /// `mtllib <name>` and `usemtl color_<k>` before the faces of each color (see mtl_text).
+  std::string material_library;
 };
 
 /// OBJ text of a complex's faces: `v` per vertex, `vn` per face (its facet normal, when the
@@ -21,10 +26,18 @@ struct ObjOptions {
 /// without faces (the polygon outline cut from a 3D model) is written as `l` line elements.
 /// \throw InputError when the complex is not in R^2 or R^3.
 std::string obj_text(const Complex& complex, const ObjOptions& options = {});
-/// Same for a section, grouped per source cell ("g cell_<id>").
+/// Same for a section, grouped per source cell ("g cell_<id>", or "g object_<i>_cell_<id>" for
+/// a scene's section).
 std::string obj_text(const Section& section, const ObjOptions& options = {});
 
-/// Writes through a temporary file and a rename. \throw IoError, InputError.
+/// MTL text of the face colors of a complex (one `newmtl color_<k>` per distinct color, in the
+/// order obj_text uses them); empty when the faces have no colors.
+std::string mtl_text(const Complex& complex);
+
+/// Writes through a temporary file and a rename. When the faces have colors, the materials go
+/// to the same path with the extension .mtl, written first (and removed again if the OBJ cannot
+/// be written); options.material_library is then set to its file name.
+/// \throw IoError, InputError.
 void write_obj_file(const std::string& path, const Section& section, const ObjOptions& options = {});
 
 }  // namespace cw4d

@@ -20,7 +20,8 @@ struct SvgOptions {
   bool edges = true;
 };
 
-/// SVG text of a section in R^3; faces are colored by their source cell.
+/// SVG text of a section in R^3; faces take their color from complex.colors(2) when present
+/// (alpha as fill-opacity), else a hue per source cell.
 /// \throw InputError when the section is not 3-dimensional.
 std::string svg_text(const Section& section, const SvgOptions& options = {});
 

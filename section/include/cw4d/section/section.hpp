@@ -28,6 +28,9 @@ struct Section {
   /// source[k][i]: the model element of rank k + 1 whose cut is section element i of rank k
   /// (k >= 1; source[0] is empty). For a 4D model, source[2][f] is the cell of face f.
   std::vector<std::vector<std::uint32_t>> source;
+  /// Set by section_scene: the scene object each face (rank-2 element) was cut from, i.e. whose
+  /// model the ids in `source` refer to. Empty for the section of a single model.
+  std::vector<std::uint32_t> object_of_face;
 
   bool empty() const { return complex.count(0) == 0; }
   /// World-space position of section vertex v (on the hyperplane).

@@ -1,0 +1,22 @@
+#pragma once
+// Closed 3D polyhedra from ordinary mesh files (OBJ, OFF, PLY, STL) through OpenMesh's readers,
+// the input of extrude:FILE and spin:FILE,STEPS. OpenMesh stays inside mesh_import.cpp.
+#include <string>
+
+#include "cw4d/complex/complex.hpp"
+
+namespace cw4d {
+
+/// Reads a closed polyhedron into a 3D complex (built with build_complex: outward oriented, with
+/// facet normals, validated). The format follows the file extension (.obj, .off, .ply, .stl).
+/// Polygonal faces stay polygons; a face whose vertices are not coplanar within
+/// tol::planarity_rel * its size is fan-triangulated. Vertices with identical coordinates are
+/// merged (STL has no shared vertices, and OpenMesh splits faces it cannot attach), and vertices
+/// in no face are dropped. Coordinates pass through OpenMesh's readers, most of which read
+/// single precision. Silences OpenMesh's own error stream while reading (not thread-safe).
+/// \throw IoError when the file cannot be opened; ParseError (FILE:0) when OpenMesh cannot read
+///        it or the faces do not bound a closed, valid polyhedron (open mesh, three faces on one
+///        edge, ...).
+Complex read_polyhedron(const std::string& path);
+
+}  // namespace cw4d

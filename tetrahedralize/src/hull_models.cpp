@@ -1,0 +1,204 @@
+// Model families built from convex hulls: point files, the snub 24-cell, the grand antiprism
+// and polytopal glomes. Only the public hull API is used here (no CGAL headers).
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/error.hpp"
+#include "cw4d/tetrahedralize/hull.hpp"
+
+namespace cw4d {
+
+namespace {
+
+constexpr double kPhi = std::numbers::phi;
+
+Eigen::MatrixXd to_matrix(const std::vector<Eigen::Vector4d>& points) {
+  Eigen::MatrixXd m(4, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = points[i];
+  return m;
+}
+
+// The 12 even permutations of 4 positions.
+std::vector<std::array<int, 4>> even_permutations() {
+  std::vector<std::array<int, 4>> out;
+  std::array<int, 4> p{0, 1, 2, 3};
+  do {
+    int inversions = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) inversions += p[i] > p[j];
+    if (inversions % 2 == 0) out.push_back(p);
+  } while (std::next_permutation(p.begin(), p.end()));
+  return out;
+}
+
+// Every even permutation of `values` with every choice of signs of its non-zero entries.
+void add_even_signed(const std::array<double, 4>& values, std::vector<Eigen::Vector4d>& out) {
+  for (const auto& perm : even_permutations())
+    for (int signs = 0; signs < 16; ++signs) {
+      Eigen::Vector4d v;
+      bool skip = false;
+      for (int i = 0; i < 4; ++i) {
+        const bool negative = (signs >> i) & 1;
+        if (negative && values[i] == 0.0) skip = true;  // -0 is +0: count each point once
+        v(perm[i]) = negative ? -values[i] : values[i];
+      }
+      if (!skip) out.push_back(v);
+    }
+}
+
+// The 120 vertices of the 600-cell with circumradius 1.
+std::vector<Eigen::Vector4d> hexacosichoron_vertices() {
+  std::vector<Eigen::Vector4d> v;
+  for (int i = 0; i < 4; ++i)
+    for (double s : {1.0, -1.0}) {
+      Eigen::Vector4d e = Eigen::Vector4d::Zero();
+      e(i) = s;
+      v.push_back(e);
+    }
+  for (int signs = 0; signs < 16; ++signs) {
+    Eigen::Vector4d h;
+    for (int i = 0; i < 4; ++i) h(i) = (signs >> i) & 1 ? -0.5 : 0.5;
+    v.push_back(h);
+  }
+  add_even_signed({kPhi / 2, 0.5, 0.5 / kPhi, 0.0}, v);
+  return v;
+}
+
+double parse_double(std::string_view text, bool* ok) {
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  *ok = ec == std::errc() && ptr == text.data() + text.size() && std::isfinite(value);
+  return value;
+}
+
+Complex make_glome_spec(const std::string& spec, std::string_view args) {
+  const auto comma = args.find(',');
+  bool ok = comma != std::string_view::npos;
+  const double r = ok ? parse_double(args.substr(0, comma), &ok) : 0.0;
+  if (!ok) throw InputError("model spec '" + spec + "': expected glome:R,N with a number R");
+  const auto n = parse_ints(args.substr(comma + 1), spec, 1)[0];
+  return make_glome(r, n);
+}
+
+}  // namespace
+
+Eigen::MatrixXd read_point_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ParseError(path, 0, "cannot open point file");
+  std::vector<double> coords;
+  int dim = 0;
+  std::size_t line_no = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    std::string token;
+    int count = 0;
+    while (fields >> token) {
+      bool ok = false;
+      const double value = parse_double(token, &ok);
+      if (!ok) throw ParseError(path, line_no, "'" + token + "' is not a finite number");
+      coords.push_back(value);
+      ++count;
+    }
+    if (count == 0) continue;
+    if (dim == 0) {
+      if (count != 3 && count != 4)
+        throw ParseError(path, line_no,
+                         "a point needs 3 or 4 coordinates, got " + std::to_string(count));
+      dim = count;
+    } else if (count != dim) {
+      throw ParseError(path, line_no,
+                       "expected " + std::to_string(dim) +
+                           " coordinates like the first point, got " + std::to_string(count));
+    }
+  }
+  if (in.bad()) throw ParseError(path, line_no, "read error");
+  if (dim == 0) throw ParseError(path, line_no, "no points in file");
+  return Eigen::Map<const Eigen::MatrixXd>(coords.data(), dim,
+                                           static_cast<Eigen::Index>(coords.size() / dim));
+}
+
+Complex make_snub_24_cell() {
+  std::vector<Eigen::Vector4d> v;
+  add_even_signed({0.0, 1.0, kPhi, kPhi * kPhi}, v);
+  return convex_hull(to_matrix(v));
+}
+
+Complex make_grand_antiprism() {
+  // Two completely orthogonal planes, each through a great decagon of the 600-cell: the first
+  // through e1 and its neighbour (phi, 1, 1/phi, 0) / 2, the second its orthogonal complement.
+  const Eigen::Vector4d a1(1, 0, 0, 0), a2 = Eigen::Vector4d(0, 1, 1 / kPhi, 0).normalized();
+  const Eigen::Vector4d b1 = Eigen::Vector4d(0, -1 / kPhi, 1, 0).normalized(), b2(0, 0, 0, 1);
+  const auto in_plane = [](const Eigen::Vector4d& v, const Eigen::Vector4d& e1,
+                           const Eigen::Vector4d& e2) {
+    return std::abs(v.dot(e1) * v.dot(e1) + v.dot(e2) * v.dot(e2) - 1.0) < 1e-9;
+  };
+  std::vector<Eigen::Vector4d> kept;
+  for (const auto& v : hexacosichoron_vertices())
+    if (!in_plane(v, a1, a2) && !in_plane(v, b1, b2)) kept.push_back(v);
+  if (kept.size() != 100) throw Error("grand antiprism: the two decagons were not found");
+  return convex_hull(to_matrix(kept));
+}
+
+Complex make_glome(double r, int n) {
+  if (!std::isfinite(r) || r <= 0.0)
+    throw InputError("glome:R,N needs a radius R > 0, got " + std::to_string(r));
+  if (n < 1 || n > 24) throw InputError("glome:R,N needs a resolution N of 1..24");
+  std::vector<Eigen::Vector4d> points;
+  const double pi = std::numbers::pi;
+  for (int i = 0; i <= n; ++i) {
+    const double a = 0.5 * pi * i / n;
+    // Exact zeros on the two Hopf circles: one point per angle, not a ring of near-duplicates.
+    const double ca = i == n ? 0.0 : std::cos(a), sa = i == 0 ? 0.0 : std::sin(a);
+    const int mb = i == n ? 1 : std::max(3, static_cast<int>(std::ceil(4.0 * n * ca)));
+    const int mc = i == 0 ? 1 : std::max(3, static_cast<int>(std::ceil(4.0 * n * sa)));
+    const double shift = 0.5 * (i % 2);  // staggered tori give better-shaped cells
+    for (int j = 0; j < mb; ++j)
+      for (int k = 0; k < mc; ++k) {
+        const double b = 2.0 * pi * (j + shift) / mb, c = 2.0 * pi * (k + shift) / mc;
+        points.emplace_back(r * ca * std::cos(b), r * ca * std::sin(b), r * sa * std::cos(c),
+                            r * sa * std::sin(c));
+      }
+  }
+  return convex_hull(to_matrix(points));
+}
+
+void register_hull_models() {
+  static bool registered = false;
+  if (registered) return;
+  registered = true;
+  register_model_family(parametric_family(
+      "hull", "hull:FILE",
+      "convex hull of the points in FILE (one point per line, 3 or 4 coordinates separated by "
+      "spaces or commas, # comments)",
+      [](const std::string&, std::string_view path) {
+        return convex_hull(read_point_file(std::string(path)));
+      }));
+  register_model_family(named_family({"snub 24-cell", "snub-24-cell", "sadi"},
+                                     "snub 24-cell s3s4o3o: hull of the even permutations of "
+                                     "(0, +-1, +-phi, +-phi^2), edge 2",
+                                     make_snub_24_cell));
+  register_model_family(named_family({"grand antiprism", "gap"},
+                                     "grand antiprism: the 600-cell (circumradius 1) without two "
+                                     "completely orthogonal decagons",
+                                     make_grand_antiprism));
+  register_model_family(parametric_family(
+      "glome", "glome:R,N",
+      "convex polytope inscribed in the 3-sphere of radius R, Hopf-coordinate grid of "
+      "resolution N = 1..24 (volume -> pi^2 R^4 / 2)",
+      make_glome_spec));
+}
+
+}  // namespace cw4d
