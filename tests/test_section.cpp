@@ -20,6 +20,7 @@
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
 #include "support/oracle.hpp"
+#include "support/registration.hpp"
 
 using namespace cw4d;
 
@@ -34,8 +35,12 @@ struct Shape {
 const std::vector<Shape>& shapes_4d() {
   static const std::vector<Shape> shapes = [] {
     std::vector<Shape> s;
-    for (std::string spec : {"5-cell", "tesseract", "16-cell", "duoprism:3,4", "duoprism:5,7",
-                             "duoprism:12,9", "prism:simplex:3", "prism:orthoplex:3"})
+    test::register_optional_models();
+    for (std::string spec :
+         {"5-cell", "tesseract", "16-cell", "duoprism:3,4", "duoprism:5,7", "duoprism:12,9",
+          "prism:simplex:3", "prism:orthoplex:3", "truncated tesseract", "snub 24-cell",
+          "grand antiprism", "pyramid:cube:3", "dual:24-cell", "duocylinder:1,9",
+          "prism:antiprism:5", "cone:sphere:1,6"})
       s.push_back({spec, load_model(spec)});
     const std::string dir = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/regular/";
     for (std::string file : {"Icositetrachoron", "Hexacosichoron", "Hecatonicosachoron"})
