@@ -40,6 +40,7 @@ const std::vector<Example>& examples() {
       {"cubinder:1,8", true}, {"spherinder:1,8", true},
       {"extrude:" + std::string(CW4D_TEST_DATA_DIR) + "/cube.obj", true},
       {"spin:" + std::string(CW4D_TEST_DATA_DIR) + "/offset_cube.off,12", false},
+      {"snub cube", true}, {"snub dodecahedron", true}, {"prism:snub dodecahedron", true},
       {"snub 24-cell", true}, {"grand antiprism", true}, {"glome:1,4", true},
       {"hull:" + std::string(CW4D_TEST_DATA_DIR) + "/cube_points.txt", true},
   };

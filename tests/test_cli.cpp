@@ -26,38 +26,14 @@
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/export/svg.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    static unsigned counter = 0;
-    const fs::path base = fs::temp_directory_path();
-    do {
-      path_ =
-          base / ("cw4d_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    } while (!fs::create_directory(path_));
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  bool exists(const std::string& name) const { return fs::exists(path_ / name); }
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name, std::ios::binary) << text;
-  }
-
- private:
-  fs::path path_;
+struct TempDir : cw4d::test::TempDir {
+  TempDir() : cw4d::test::TempDir("cw4d_test_cli") {}
 };
 
 std::string read_text(const fs::path& p) {

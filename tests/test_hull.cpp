@@ -1,7 +1,8 @@
 // Tests of the CGAL convex hull and the models built on it: hulls of the vertices of every
 // Wythoff polychoron against the Wythoff complex (two independent constructions), hulls of the
 // Miratope files against their headers, the snub 24-cell and grand antiprism against published
-// counts and the Miratope coordinates, 3D cases, degenerate input, glome volumes, point files.
+// counts and the Miratope coordinates, the snub cube and snub dodecahedron, 3D cases, degenerate
+// input, glome volumes, point files.
 #include <catch2/catch.hpp>
 
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <random>
 #include <string>
@@ -186,6 +188,42 @@ TEST_CASE("the grand antiprism has the published counts and is Miratope's", "[hu
   const Complex file = read_off_file((kMiratope / "Grand antiprism.off").string());
   CHECK(file.fvector() == g.fvector());
   check_congruent(g.positions(), file.positions());
+}
+
+namespace {
+
+// Snub polyhedra: f-vector, faces by number of edges, equal edges 2, one circumradius, valid.
+void check_snub(const Complex& c, const FVector& fvector, std::size_t triangles, int n_gon,
+                std::size_t n_gons) {
+  CHECK(c.ambient_dim() == 3);
+  CHECK(c.fvector() == fvector);
+  check_valid(c);
+  std::map<std::size_t, std::size_t> sizes;
+  for (std::uint32_t f = 0; f < c.count(2); ++f) ++sizes[c.boundary(2).row_size(f)];
+  CHECK(sizes == std::map<std::size_t, std::size_t>{{3, triangles},
+                                                    {static_cast<std::size_t>(n_gon), n_gons}});
+  for (double len : edge_lengths(c)) CHECK(std::abs(len - 2.0) < 1e-9);
+  const Eigen::VectorXd centroid = c.positions().rowwise().mean();
+  CHECK(centroid.norm() < 1e-9);
+  const double r = c.position(0).norm();
+  for (std::uint32_t v = 0; v < c.count(0); ++v) CHECK(std::abs(c.position(v).norm() - r) < 1e-9);
+}
+
+}  // namespace
+
+TEST_CASE("the snub cube has 32 triangles and 6 squares of edge 2", "[hull][models][3d]") {
+  const Complex c = make_snub_cube();
+  check_snub(c, FVector{24, 60, 38}, 32, 4, 6);
+  // Circumradius of the unit-edge snub cube: 1.3437133737446...
+  CHECK(c.position(0).norm() == Approx(2.0 * 1.3437133737446).epsilon(1e-10));
+}
+
+TEST_CASE("the snub dodecahedron has 80 triangles and 12 pentagons of edge 2",
+          "[hull][models][3d]") {
+  const Complex c = make_snub_dodecahedron();
+  check_snub(c, FVector{60, 150, 92}, 80, 5, 12);
+  // Circumradius of the unit-edge snub dodecahedron: 2.1558373751156...
+  CHECK(c.position(0).norm() == Approx(2.0 * 2.1558373751156).epsilon(1e-10));
 }
 
 TEST_CASE("3D: a cube with interior and face-centre points is a cube", "[hull][3d]") {
@@ -381,11 +419,18 @@ TEST_CASE("hull:FILE reads points and reports bad lines with their numbers", "[h
 
 TEST_CASE("the hull models are registered under their names and aliases", "[hull][models]") {
   register_hull_models();
-  for (const char* spec : {"snub 24-cell", "Snub-24-Cell", "sadi", "grand antiprism", "GAP",
-                           "glome:1,2", "hull:x.txt"})
+  for (const char* spec : {"snub cube", "snic", "snub dodecahedron", "snid", "snub 24-cell",
+                           "Snub-24-Cell", "sadi", "grand antiprism", "GAP", "glome:1,2",
+                           "hull:x.txt"})
     CHECK(is_builtin_spec(spec));
   CHECK(load_model("sadi").fvector() == FVector{96, 432, 480, 144});
   CHECK(load_model("gap").fvector() == FVector{100, 500, 720, 320});
+  CHECK(load_model("snic").fvector() == FVector{24, 60, 38});
+  CHECK(load_model("Snub-Dodecahedron").fvector() == FVector{60, 150, 92});
+  // Prism over (V, E, F): (2V, 2E + V, 2F + E, F + 2).
+  const Complex prism = load_model("prism:snub cube");
+  CHECK(prism.fvector() == FVector{48, 144, 136, 40});
+  check_valid(prism);
   int hull_entries = 0;
   for (const auto& info : builtin_list()) hull_entries += info.spec == "hull:FILE";
   CHECK(hull_entries == 1);

@@ -25,6 +25,7 @@
 #include "cw4d/export/svg.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace cw4d;
 
@@ -32,34 +33,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
- public:
-  TempDir() {
-    static unsigned counter = 0;
-    do {
-      path_ = fs::temp_directory_path() /
-              ("cw4d_test_scene_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    } while (!fs::create_directory(path_));
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-  void write(const std::string& name, const std::string& text) const {
-    fs::create_directories((path_ / name).parent_path());
-    std::ofstream(path_ / name, std::ios::binary) << text;
-  }
-  std::size_t entries() const {
-    std::size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(path_)) ++n;
-    return n;
-  }
-
- private:
-  fs::path path_;
+struct TempDir : cw4d::test::TempDir {
+  TempDir() : cw4d::test::TempDir("cw4d_test_scene") {}
 };
 
 std::string read_text(const fs::path& p) {

@@ -1,5 +1,10 @@
-// Model families built from convex hulls: point files, the snub 24-cell, the grand antiprism
-// and polytopal glomes. Only the public hull API is used here (no CGAL headers).
+// Model families built from convex hulls: point files, the snub cube and snub dodecahedron,
+// the snub 24-cell, the grand antiprism and polytopal glomes. Only the public hull API is used
+// here (no CGAL headers).
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -73,6 +78,62 @@ std::vector<Eigen::Vector4d> hexacosichoron_vertices() {
   return v;
 }
 
+// The snub of the rank-3 Coxeter group [p, q] with edge length 2: the orbit of one point under
+// the rotation subgroup (products of two reflections), chosen so that all its edges are equal.
+// Linear Wythoff ringings cannot give it (the snub is not the orbit of the full group).
+Complex make_snub_polyhedron(int p, int q, std::size_t expected_vertices, const char* name) {
+  const double pi = std::numbers::pi;
+  // Unit simple roots as the rows of the Cholesky factor of the Gram matrix (as in wythoff.cpp).
+  Eigen::Matrix3d gram;
+  const double cp = std::cos(pi / p), cq = std::cos(pi / q);
+  gram << 1, -cp, 0, -cp, 1, -cq, 0, -cq, 1;
+  const Eigen::Matrix3d roots = gram.llt().matrixL();
+  std::array<Eigen::Matrix3d, 3> s;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d a = roots.row(i).transpose();
+    s[i] = Eigen::Matrix3d::Identity() - 2.0 * a * a.transpose();
+  }
+  // Rotations about the axes of the p-gons, the q-gons and the 2-fold axes; the snub vertex x
+  // is joined to r1 x, r2 x and r3 x (and r1^-1 x, r2^-1 x).
+  const std::array<Eigen::Matrix3d, 3> r = {s[0] * s[1], s[1] * s[2], s[0] * s[2]};
+  // |x - R x|^2 = 2 - x^T (R + R^T) x on the unit sphere: equal edges are two quadratic equations.
+  const auto sym = [](const Eigen::Matrix3d& m) -> Eigen::Matrix3d { return m + m.transpose(); };
+  const Eigen::Matrix3d a1 = sym(r[0]) - sym(r[2]), a2 = sym(r[1]) - sym(r[2]);
+  // Newton on (x^T A1 x, x^T A2 x, |x|^2 - 1) from the incentre of the fundamental chamber, which
+  // lies inside the rotation group's fundamental domain next to the wanted solution.
+  Eigen::Vector3d x = roots.triangularView<Eigen::Lower>().solve(Eigen::Vector3d::Ones());
+  x.normalize();
+  for (int it = 0; it < 100; ++it) {
+    const Eigen::Vector3d f(x.dot(a1 * x), x.dot(a2 * x), x.squaredNorm() - 1.0);
+    if (f.norm() < 1e-15) break;
+    Eigen::Matrix3d jac;
+    jac.row(0) = 2.0 * (a1 * x).transpose();
+    jac.row(1) = 2.0 * (a2 * x).transpose();
+    jac.row(2) = 2.0 * x.transpose();
+    x -= jac.partialPivLu().solve(f);
+  }
+  const double edge = (x - r[2] * x).norm();
+  if (!(edge > 1e-6) || std::abs((x - r[0] * x).norm() - edge) > 1e-12 * edge ||
+      std::abs((x - r[1] * x).norm() - edge) > 1e-12 * edge)
+    throw Error(std::string(name) + ": the equal-edge snub point was not found");
+  x *= 2.0 / edge;
+  // Orbit under r1, r2 (they generate the rotation group), deduplicated by distance.
+  std::vector<Eigen::Vector3d> orbit{x};
+  for (std::size_t i = 0; i < orbit.size(); ++i)
+    for (int g = 0; g < 2; ++g) {
+      const Eigen::Vector3d y = r[g] * orbit[i];
+      const bool seen = std::any_of(orbit.begin(), orbit.end(), [&](const Eigen::Vector3d& z) {
+        return (z - y).norm() < 1e-9;
+      });
+      if (!seen) orbit.push_back(y);
+    }
+  if (orbit.size() != expected_vertices)
+    throw Error(std::string(name) + ": unexpected orbit size " + std::to_string(orbit.size()));
+  Eigen::MatrixXd m(3, static_cast<Eigen::Index>(orbit.size()));
+  for (std::size_t i = 0; i < orbit.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = orbit[i];
+  return convex_hull(m);
+}
+
 double parse_double(std::string_view text, bool* ok) {
   double value = 0.0;
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -128,6 +189,14 @@ Eigen::MatrixXd read_point_file(const std::string& path) {
   if (dim == 0) throw ParseError(path, line_no, "no points in file");
   return Eigen::Map<const Eigen::MatrixXd>(coords.data(), dim,
                                            static_cast<Eigen::Index>(coords.size() / dim));
+}
+
+Complex make_snub_cube() {
+  return make_snub_polyhedron(4, 3, 24, "snub cube");
+}
+
+Complex make_snub_dodecahedron() {
+  return make_snub_polyhedron(5, 3, 60, "snub dodecahedron");
 }
 
 Complex make_snub_24_cell() {
@@ -186,6 +255,13 @@ void register_hull_models() {
       [](const std::string&, std::string_view path) {
         return convex_hull(read_point_file(std::string(path)));
       }));
+  register_model_family(named_family({"snub cube", "snub-cube", "snic"},
+                                     "snub cube s4s3s: 32 triangles and 6 squares, edge 2",
+                                     make_snub_cube));
+  register_model_family(named_family({"snub dodecahedron", "snub-dodecahedron", "snid"},
+                                     "snub dodecahedron s5s3s: 80 triangles and 12 pentagons, "
+                                     "edge 2",
+                                     make_snub_dodecahedron));
   register_model_family(named_family({"snub 24-cell", "snub-24-cell", "sadi"},
                                      "snub 24-cell s3s4o3o: hull of the even permutations of "
                                      "(0, +-1, +-phi, +-phi^2), edge 2",

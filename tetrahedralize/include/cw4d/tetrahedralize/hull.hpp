@@ -30,6 +30,15 @@ Complex convex_hull(const Eigen::MatrixXd& points);
 ///        dimension other than 3 or 4, or a file without points (line 0 when it cannot be read).
 Eigen::MatrixXd read_point_file(const std::string& path);
 
+/// The snub cube ("snic"): the orbit of one point under the rotation group of the cube, chosen
+/// so that all edges are equal (Newton on the sphere); edge length 2, centred at the origin,
+/// f-vector (24, 60, 38): 32 triangles and 6 squares. Chiral: one fixed hand.
+Complex make_snub_cube();
+
+/// The snub dodecahedron ("snid"), built like make_snub_cube from the icosahedral rotations;
+/// edge length 2, f-vector (60, 150, 92): 80 triangles and 12 pentagons.
+Complex make_snub_dodecahedron();
+
 /// The snub 24-cell (Klitzing's s3s4o3o, "sadi"): the hull of the 96 even permutations of
 /// (0, +-1, +-phi, +-phi^2); edge length 2, f-vector (96, 432, 480, 144).
 Complex make_snub_24_cell();
@@ -47,7 +56,8 @@ Complex make_grand_antiprism();
 /// \throw InputError for r <= 0 (or not finite) or n out of range.
 Complex make_glome(double r, int n);
 
-/// Registers the families "hull:FILE", "snub 24-cell" (snub-24-cell, sadi), "grand antiprism"
+/// Registers the families "hull:FILE", "snub cube" (snub-cube, snic), "snub dodecahedron"
+/// (snub-dodecahedron, snid), "snub 24-cell" (snub-24-cell, sadi), "grand antiprism"
 /// (gap) and "glome:R,N" with register_model_family, so load_model and the CLI accept them.
 /// Idempotent; call at start-up (not thread-safe, like register_model_family).
 void register_hull_models();
