@@ -376,6 +376,7 @@ ModelFamily named_family(std::vector<std::string> names, std::string description
     return std::find(names.begin(), names.end(), lowered) != names.end();
   };
   f.make = [make = std::move(make)](const std::string&) { return make(); };
+  f.exact = true;
   return f;
 }
 
@@ -529,8 +530,9 @@ std::vector<ModelFamily>& registry() {
 
 const ModelFamily* find_family(std::string_view spec) {
   const std::string s = lower(spec);
-  for (const ModelFamily& f : registry())
-    if (f.matches(s)) return &f;
+  for (bool exact : {true, false})
+    for (const ModelFamily& f : registry())
+      if (f.exact == exact && f.matches(s)) return &f;
   return nullptr;
 }
 

@@ -46,6 +46,9 @@ struct ModelFamily {
   std::function<bool(std::string_view lowered)> matches;
   /// Builds the model of a spec (as the user wrote it). \throw InputError for bad arguments.
   std::function<Complex(const std::string& spec)> make;
+  /// Exact names win over patterns: "wythoff:s3s4o3o" (the snub 24-cell) is tried before the
+  /// "wythoff:DIAGRAM" family.
+  bool exact = false;
 };
 /// A family of one name with aliases (lower case); `names.front()` is its usage.
 ModelFamily named_family(std::vector<std::string> names, std::string description,
