@@ -71,6 +71,8 @@ const std::vector<Example>& examples() {
       {"snub dodecahedron", true},
       {"prism:snub dodecahedron", true},
       {"snub 24-cell", true},
+      {"product:polygon:5*polygon:3", true},
+      {"product:cube:3*polygon:4", true},
       {"wythoff:s3s4o3o", true},
       {"wythoff:s5s3s", true},
       {"grand antiprism", true},
@@ -129,4 +131,14 @@ TEST_CASE("snub diagrams name the snub polytopes (published f-vectors)") {
   CHECK(load_model("grand antiprism").fvector() == std::vector<std::size_t>{100, 500, 720, 320});
   // Other diagrams with snub nodes are not built (yet): a clear error, not a wrong model.
   CHECK_THROWS_AS(load_model("wythoff:s3s3s3s"), InputError);
+}
+
+TEST_CASE("product:A*B is the Cartesian product (f-vector of the product of the faces)") {
+  // duoprism:5,3 = pentagon x triangle: V = 15, E = 5*3 + 5*3, F = 15 + 3 + 5, C = 3 + 5.
+  CHECK(load_model("product:polygon:5*polygon:3").fvector() ==
+        std::vector<std::size_t>{15, 30, 23, 8});
+  CHECK(load_model("product:polygon:5*polygon:3").positions().cols() ==
+        load_model("duoprism:5,3").positions().cols());
+  CHECK_THROWS_AS(load_model("product:polygon:5"), InputError);
+  CHECK_THROWS_AS(load_model("product:*polygon:5"), InputError);
 }

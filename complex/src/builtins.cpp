@@ -454,6 +454,17 @@ std::vector<ModelFamily> default_families() {
                                 [](const std::string&, std::string_view a) {
                                   return make_product(load_model(std::string(a)), make_segment());
                                 }));
+  f.push_back(parametric_family(
+      "product", "product:MODEL*MODEL",
+      "Cartesian product of two closed models, e.g. product:polygon:5*polygon:8 (a duoprism) or "
+      "product:sphere:1,8*polygon:6 (5D); the dimensions add",
+      [](const std::string& spec, std::string_view a) {
+        const auto star = a.find('*');
+        if (star == std::string_view::npos || star == 0 || star + 1 == a.size())
+          throw InputError("model spec '" + spec + "': expected product:MODEL*MODEL");
+        return make_product(load_model(std::string(a.substr(0, star))),
+                            load_model(std::string(a.substr(star + 1))));
+      }));
   f.push_back(parametric_family("pyramid", "pyramid:MODEL",
                                 "pyramid over any closed model: base at last coordinate 0, apex at "
                                 "height 2 above the vertex centroid (one dimension up)",
