@@ -36,12 +36,7 @@ struct TempDir : cw4d::test::TempDir {
   TempDir() : cw4d::test::TempDir("cw4d_test_cli") {}
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using cw4d::test::read_text;
 
 std::string quote(const std::string& s) {
   std::string out = "'";

@@ -37,12 +37,7 @@ struct TempDir : cw4d::test::TempDir {
   TempDir() : cw4d::test::TempDir("cw4d_test_scene") {}
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using cw4d::test::read_text;
 
 Scene parse(const std::string& text, const std::string& base = {}) {
   std::istringstream in(text);
