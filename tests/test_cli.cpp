@@ -27,6 +27,7 @@
 #include "cw4d/section/section.hpp"
 #include "cw4d/export/svg.hpp"
 #include "support/temp_dir.hpp"
+#include "support/vectors.hpp"
 
 namespace {
 
@@ -107,16 +108,8 @@ Obj read_obj(const fs::path& p) {
   return obj;
 }
 
-Eigen::VectorXd vec(std::initializer_list<double> xs) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(xs.size()));
-  Eigen::Index i = 0;
-  for (double x : xs) v(i++) = x;
-  return v;
-}
-
-double radians(double degrees) {
-  return degrees * std::numbers::pi / 180.0;
-}
+using cw4d::test::radians;
+using cw4d::test::vec;
 
 // A tetrahedron's boundary missing one face, as a 4D cell: it parses, but is not closed.
 const char* kOpenCell =

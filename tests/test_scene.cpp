@@ -26,6 +26,7 @@
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "support/temp_dir.hpp"
+#include "support/vectors.hpp"
 
 using namespace cw4d;
 
@@ -44,16 +45,8 @@ Scene parse(const std::string& text, const std::string& base = {}) {
   return read_scene(in, "test.json", base);
 }
 
-Eigen::VectorXd vec(std::initializer_list<double> xs) {
-  Eigen::VectorXd v(static_cast<Eigen::Index>(xs.size()));
-  Eigen::Index i = 0;
-  for (double x : xs) v(i++) = x;
-  return v;
-}
-
-double radians(double degrees) {
-  return degrees * std::numbers::pi / 180.0;
-}
+using cw4d::test::radians;
+using cw4d::test::vec;
 
 bool same_transform(const AffineTransform& a, const AffineTransform& b) {
   return (a.linear() - b.linear()).norm() < 1e-12 &&

@@ -449,11 +449,16 @@ std::vector<ModelFamily> default_families() {
                                   const auto v = parse_ints(a, spec, 2);
                                   return make_duoprism(v[0], v[1]);
                                 }));
-  f.push_back(parametric_family("prism", "prism:MODEL",
-                                "MODEL x [-1,1]: the prism over any model spec or file",
-                                [](const std::string&, std::string_view a) {
-                                  return make_product(load_model(std::string(a)), make_segment());
-                                }));
+  // Operators applied to the model named by the rest of the spec.
+  auto add_operator = [&f](const char* head, const char* usage, const char* description,
+                           std::function<Complex(const Complex&)> op) {
+    f.push_back(parametric_family(head, usage, description,
+                                  [op = std::move(op)](const std::string&, std::string_view a) {
+                                    return op(load_model(std::string(a)));
+                                  }));
+  };
+  add_operator("prism", "prism:MODEL", "MODEL x [-1,1]: the prism over any model spec or file",
+               [](const Complex& m) { return make_product(m, make_segment()); });
   f.push_back(parametric_family(
       "product", "product:MODEL*MODEL",
       "Cartesian product of two closed models, e.g. product:polygon:5*polygon:8 (a duoprism) or "
@@ -465,25 +470,18 @@ std::vector<ModelFamily> default_families() {
         return make_product(load_model(std::string(a.substr(0, star))),
                             load_model(std::string(a.substr(star + 1))));
       }));
-  f.push_back(parametric_family("pyramid", "pyramid:MODEL",
-                                "pyramid over any closed model: base at last coordinate 0, apex at "
-                                "height 2 above the vertex centroid (one dimension up)",
-                                [](const std::string&, std::string_view a) {
-                                  return make_pyramid(load_model(std::string(a)), 2.0);
-                                }));
-  f.push_back(
-      parametric_family("cone", "cone:MODEL",
-                        "pyramid over a model with height half its largest bounding-box side, "
-                        "e.g. cone:sphere:1,16 (spherone), cone:cylinder:1,16 (cylindrone)",
-                        [](const std::string&, std::string_view a) {
-                          return make_cone(load_model(std::string(a)));
-                        }));
-  f.push_back(parametric_family("dual", "dual:MODEL",
-                                "polar dual of a convex model about its vertex centroid, scaled to "
-                                "the same circumradius, e.g. dual:120-cell is a 600-cell",
-                                [](const std::string&, std::string_view a) {
-                                  return make_dual_same_size(load_model(std::string(a)));
-                                }));
+  add_operator("pyramid", "pyramid:MODEL",
+               "pyramid over any closed model: base at last coordinate 0, apex at height 2 above "
+               "the vertex centroid (one dimension up)",
+               [](const Complex& m) { return make_pyramid(m, 2.0); });
+  add_operator("cone", "cone:MODEL",
+               "pyramid over a model with height half its largest bounding-box side, e.g. "
+               "cone:sphere:1,16 (spherone), cone:cylinder:1,16 (cylindrone)",
+               [](const Complex& m) { return make_cone(m); });
+  add_operator("dual", "dual:MODEL",
+               "polar dual of a convex model about its vertex centroid, scaled to the same "
+               "circumradius, e.g. dual:120-cell is a 600-cell",
+               [](const Complex& m) { return make_dual_same_size(m); });
   f.push_back(parametric_family("antiprism", "antiprism:N",
                                 "uniform 3D N-gonal antiprism, edge 2, axis z (N >= 3); "
                                 "prism:antiprism:N is the uniform antiprismatic prism",
