@@ -395,19 +395,22 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
   const Eigen::VectorXd nm = xf.linear().transpose() * plane.normal;
   const double dm = plane.offset - plane.normal.dot(xf.translation());
-  // ON means within the rounding error of s = nm.x - dm (see tolerances.hpp); crossing points
-  // within the weld distance of a model vertex (relative to the model's size) merge into it.
-  const double scale = nm.norm() * max_radius(model) + std::abs(dm);
-  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
-  const Bounds box = bounds(model);
-  const double weld = tol::weld_rel * (box.max - box.min).norm();
+  // One pass over the vertices: signed values and the largest vertex norm. ON means within the
+  // rounding error of s = nm.x - dm (see tolerances.hpp).
   const std::size_t nv = model.count(0);
+  const auto& p = model.positions();
   std::vector<double> s(nv);
+  double max_norm2 = 0.0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto x = p.col(static_cast<Eigen::Index>(v));
+    s[v] = nm.dot(x) - dm;
+    max_norm2 = std::max(max_norm2, x.squaredNorm());
+  }
+  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
+  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
   std::vector<Side> side(nv);
   bool any_on = false, any_pos = false, any_neg = false;
-  const auto& p = model.positions();
   for (std::size_t v = 0; v < nv; ++v) {
-    s[v] = nm.dot(p.col(static_cast<Eigen::Index>(v))) - dm;
     side[v] = classify_side(s[v], tolerance);
     any_on |= side[v] == Side::On;
     any_pos |= side[v] == Side::Positive;
@@ -417,6 +420,10 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   cut.section.complex = Complex(n - 1);
   cut.model_positions.resize(n, 0);
   if ((any_pos && any_neg) || any_on) {
+    // Crossing points within the weld distance of a model vertex (relative to the model's
+    // size) merge into it; only needed when the plane meets the model.
+    const Bounds box = bounds(model);
+    const double weld = tol::weld_rel * (box.max - box.min).norm();
     cut = Cutter(model, s, side, +1, any_on, weld).run();
     if (cut.model_positions.cols() == 0 && any_on)
       cut = Cutter(model, s, side, -1, true, weld).run();
