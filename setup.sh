@@ -22,6 +22,17 @@ PACKAGES=(
   libgmp-dev
   libmpfr-dev
   libopenmesh-dev
+  libtinygltf-dev
+  libstb-dev
+  libglm-dev
+  libtet1.5-dev
+  libtbb-dev
+  assimp-utils
+  python3-vtk9
+  nodejs
+  clang
+  libclang-rt-14-dev
+  libosmesa6-dev
 )
 
 log() { printf 'cw4d: %s\n' "$*" >&2; }
@@ -96,11 +107,26 @@ configure_and_build() {
   cmake --build "$BUILD_DIR" -j "$JOBS" >&2
 }
 
+# --- (b') test mode only: readers the tests open exported files with ----------------------------
+# The Khronos glTF-Validator from the npm registry, pinned by tests/tools/package-lock.json and
+# installed into tests/tools/node_modules/ (ignored by git), shared by every build directory.
+install_test_tools() {
+  if [[ -f tests/tools/node_modules/gltf-validator/package.json ]] &&
+     cmp -s tests/tools/package-lock.json tests/tools/node_modules/.package-lock.json.cw4d; then
+    return 0
+  fi
+  command -v npm >/dev/null 2>&1 || die "npm is missing (Debian package nodejs)"
+  log "installing the glTF-Validator (npm ci in tests/tools/)"
+  (cd tests/tools && npm ci --no-audit --no-fund --loglevel=error >&2)
+  cp tests/tools/package-lock.json tests/tools/node_modules/.package-lock.json.cw4d
+}
+
 install_missing_packages
 configure_and_build
 
 # --- the job ------------------------------------------------------------------------------------
 if [[ "$MODE" == test ]]; then
+  install_test_tools
   log "testing"
   status=0
   ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || status=$?

@@ -1,7 +1,5 @@
 // End-to-end tests of the cw4d command line: each test runs the real binary in a fresh
 // temporary directory and checks exit codes, messages, and that outputs agree with the library.
-#include <sys/wait.h>
-#include <unistd.h>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -26,6 +24,7 @@
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/export/svg.hpp"
+#include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vectors.hpp"
 
@@ -39,34 +38,11 @@ struct TempDir : cw4d::test::TempDir {
 
 using cw4d::test::read_text;
 
-std::string quote(const std::string& s) {
-  std::string out = "'";
-  for (char ch : s) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return out + "'";
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using cw4d::test::Result;
 
 // Runs cw4d with the given arguments inside dir; stdout and stderr are captured.
 Result run(const TempDir& dir, const std::vector<std::string>& args) {
-  const fs::path out = dir / ".stdout", err = dir / ".stderr";
-  std::string cmd = "cd " + quote(dir.path().string()) + " && " + quote(CW4D_EXE);
-  for (const auto& a : args) {
-    cmd += ' ';
-    cmd += quote(a);
-  }
-  cmd += " >" + quote(out.string()) + " 2>" + quote(err.string());
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  fs::remove(out);
-  fs::remove(err);
-  return r;
+  return cw4d::test::run_program(dir, CW4D_EXE, args);
 }
 
 // Errors are one line "cw4d: error: ..." on stderr.
@@ -399,7 +375,19 @@ TEST_CASE("usage errors exit 1 and write nothing", "[cli]") {
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "abc", "-o", "x.obj"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "-o", "x.obj"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0"},
-      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "x.stl"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "x.dae"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--format", "dae", "-o",
+       "x.obj"},
+      {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--triangulate", "-o",
+       "x.stl"},
+      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "0", "--to", "0", "--layers", "4",
+       "-o", "x.glb"},
+      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-1", "--to", "1", "--layers",
+       "0", "-o", "x.glb"},
+      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "nan", "--to", "1", "--layers",
+       "3", "-o", "x.glb"},
+      {"sweep", "cube:3", "--normal", "0,0,1", "--from", "-1", "--to", "1", "--layers", "3",
+       "-o", "x.glb"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--triangulate", "-o",
        "x.4off"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--rotate", "xq:10", "-o",
@@ -422,6 +410,8 @@ TEST_CASE("usage errors exit 1 and write nothing", "[cli]") {
     CHECK(!dir.exists("x.obj"));
     CHECK(!dir.exists("x.4off"));
     CHECK(!dir.exists("x.stl"));
+    CHECK(!dir.exists("x.dae"));
+    CHECK(!dir.exists("x.glb"));
   }
   const Result help = run(dir, {"--help"});
   CHECK(help.code == 0);

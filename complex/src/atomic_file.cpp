@@ -48,4 +48,18 @@ void write_file_atomically(const std::string& path, std::string_view content) {
   }
 }
 
+void write_files_atomically(const std::vector<FileContent>& files) {
+  std::size_t written = 0;
+  try {
+    for (; written < files.size(); ++written)
+      write_file_atomically(files[written].path, files[written].content);
+  } catch (...) {
+    for (std::size_t i = 0; i < written; ++i) {
+      std::error_code ignored;
+      std::filesystem::remove(files[i].path, ignored);
+    }
+    throw;
+  }
+}
+
 }  // namespace cw4d

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cw4d/complex/builder.hpp"
+#include "cw4d/complex/detail/mute_openmesh.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
@@ -25,24 +26,7 @@ struct Traits : OpenMesh::DefaultTraits {
 };
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<Traits>;
 
-// OpenMesh reports to its global streams; the library must not print, so mute them while
-// reading and restore their state afterwards.
-class MuteOpenMesh {
- public:
-  MuteOpenMesh() : err_(::omerr().is_enabled()), log_(::omlog().is_enabled()) {
-    ::omerr().disable();
-    ::omlog().disable();
-  }
-  ~MuteOpenMesh() {
-    if (err_) ::omerr().enable();
-    if (log_) ::omlog().enable();
-  }
-  MuteOpenMesh(const MuteOpenMesh&) = delete;
-  MuteOpenMesh& operator=(const MuteOpenMesh&) = delete;
-
- private:
-  bool err_, log_;
-};
+using detail::MuteOpenMesh;
 
 bool is_planar(const Eigen::MatrixXd& pos, const std::vector<std::uint32_t>& cycle) {
   // Newell normal and centroid: robust for any simple polygon.

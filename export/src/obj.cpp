@@ -88,13 +88,25 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
     }
     return out;
   }
+  const bool uvw = opt.uvw != nullptr;
+  if (uvw) {
+    if (opt.uvw->offset.size() != nf + 1 || opt.uvw->uvw.cols() != opt.uvw->offset[nf])
+      throw InputError("OBJ: the texture coordinates do not belong to this complex");
+    for (Eigen::Index k = 0; k < opt.uvw->uvw.cols(); ++k) {
+      out += "vt";
+      for (Eigen::Index i = 0; i < opt.uvw->uvw.rows(); ++i) number(out, opt.uvw->uvw(i, k));
+      out += '\n';
+    }
+  }
   const Materials mats = opt.material_library.empty() ? Materials{} : materials(c);
   if (!mats.colors.empty()) out += "mtllib " + opt.material_library + "\n";
   const std::string* current_group = nullptr;
   std::uint32_t current_material = 0xffffffffu;
-  auto corner = [&](std::uint32_t v, std::uint32_t f) {
+  // Corner j of face f (its position in face_cycle(f)) is vertex v.
+  auto corner = [&](std::uint32_t v, std::uint32_t f, std::size_t j) {
     out += ' ' + std::to_string(v + 1);
-    if (normals) out += "//" + std::to_string(f + 1);
+    if (uvw) out += '/' + std::to_string(opt.uvw->offset[f] + j + 1);
+    if (normals) out += (uvw ? "/" : "//") + std::to_string(f + 1);
   };
   for (std::uint32_t f = 0; f < nf; ++f) {
     if (group_of_face && opt.group_by_source &&
@@ -111,14 +123,14 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
     if (opt.triangulate) {
       for (std::size_t k = 1; k + 1 < cyc.size(); ++k) {
         out += 'f';
-        corner(cyc[0], f);
-        corner(cyc[k], f);
-        corner(cyc[k + 1], f);
+        corner(cyc[0], f, 0);
+        corner(cyc[k], f, k);
+        corner(cyc[k + 1], f, k + 1);
         out += '\n';
       }
     } else {
       out += 'f';
-      for (auto v : cyc) corner(v, f);
+      for (std::size_t j = 0; j < cyc.size(); ++j) corner(cyc[j], f, j);
       out += '\n';
     }
   }
@@ -174,14 +186,7 @@ void write_obj_file(const std::string& path, const Section& section, const ObjOp
   ObjOptions opt = options;
   opt.material_library = mtl_path.filename().string();
   const std::string obj = obj_text(section, opt);  // may throw: before anything is written
-  write_file_atomically(mtl_path.string(), mtl);
-  try {
-    write_file_atomically(path, obj);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove(mtl_path, ignored);
-    throw;
-  }
+  write_files_atomically({{mtl_path.string(), mtl}, {path, obj}});
 }
 
 }  // namespace cw4d

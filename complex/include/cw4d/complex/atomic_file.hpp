@@ -2,6 +2,7 @@
 // Writing outputs so that a failure leaves nothing half-written.
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace cw4d {
 
@@ -9,5 +10,17 @@ namespace cw4d {
 /// On any failure the temporary file is removed and nothing is left at `path`.
 /// \throw IoError naming the path and the reason.
 void write_file_atomically(const std::string& path, std::string_view content);
+
+/// A file of a group that belongs together (an OBJ and its .mtl, a .gltf and its .bin).
+struct FileContent {
+  std::string path;
+  std::string_view content;
+};
+
+/// Writes the files in the order given, each through write_file_atomically; when one fails, the
+/// ones this call already wrote are removed again, so the group is written whole or not at all
+/// (write companions first and the file that refers to them last).
+/// \throw IoError from the first failure.
+void write_files_atomically(const std::vector<FileContent>& files);
 
 }  // namespace cw4d

@@ -6,6 +6,7 @@
 
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/section/uvw.hpp"
 
 namespace cw4d {
 
@@ -19,6 +20,9 @@ struct ObjOptions {
   /// File name of the material library: when set and the faces have colors, the OBJ says
   /// `mtllib <name>` and `usemtl color_<k>` before the faces of each color (see mtl_text).
   std::string material_library;
+  /// Texture coordinates per face corner (section_uvw of the same section): written as
+  /// `vt u v w` per corner and referenced as `f v/vt/vn`. Not owned; null for none.
+  const CornerUvw* uvw = nullptr;
 };
 
 /// OBJ text of a complex's faces: `v` per vertex, `vn` per face (its facet normal, when the

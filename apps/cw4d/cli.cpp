@@ -1,0 +1,305 @@
+// Shared pieces of the cw4d command line (see cli.hpp).
+#include "cli.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <ios>
+#include <numbers>
+#include <tuple>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "cw4d/section/scene_section.hpp"
+
+namespace cw4d::cli {
+
+namespace fs = std::filesystem;
+
+const char* const kExitCodes =
+    "Exit codes:\n"
+    "  0  success (info also exits 0 for an invalid model: it reports \"valid\": false)\n"
+    "  1  usage error: bad option or value, unknown model spec\n"
+    "  2  an input file cannot be read or parsed (message names file:line)\n"
+    "  3  the model is not a valid complex (validation failed)\n"
+    "  4  the output cannot be written (nothing is left half-written)\n"
+    "  5  the section is empty: the plane misses the model, nothing is written\n"
+    "  6  internal error (a bug in cw4d, or out of memory)\n"
+    "Errors are printed as one line on stderr: \"cw4d: error: <message>\".";
+
+// --- text ------------------------------------------------------------------------------------
+
+std::string one_line(std::string s) {
+  for (auto& ch : s)
+    if (ch == '\n' || ch == '\r') ch = ' ';
+  return s;
+}
+
+std::string exact(double v) {
+  char buf[64];
+  auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, ptr);
+}
+
+std::string brief(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string join(const std::vector<double>& values, std::string (*fmt)(double)) {
+  std::string out;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) out += ',';
+    out += fmt(values[i]);
+  }
+  return out;
+}
+
+double parse_number(std::string_view text, const std::string& what) {
+  // from_chars rejects a leading '+'; accept it since people type it.
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  double v = 0.0;
+  auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
+    throw InputError(what + ": '" + std::string(text) + "' is not a number");
+  if (!std::isfinite(v)) throw InputError(what + ": '" + std::string(text) + "' is not finite");
+  return v;
+}
+
+std::vector<double> parse_vector(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(parse_number(std::string_view(text).substr(start, comma - start),
+                               option + " component " + std::to_string(out.size() + 1)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
+bool is_off_extension(const std::string& ext) {
+  return ext == ".4off" || ext == ".off" || ext == ".noff";
+}
+
+std::string rank_name(int rank, std::size_t count) {
+  static const char* singular[] = {"vertex", "edge", "face", "cell"};
+  static const char* plural[] = {"vertices", "edges", "faces", "cells"};
+  if (rank < 4) return count == 1 ? singular[rank] : plural[rank];
+  return "rank-" + std::to_string(rank) + (count == 1 ? " element" : " elements");
+}
+
+std::string describe_counts(const Complex& c) {
+  std::string out;
+  const auto f = c.fvector();
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    if (k) out += ", ";
+    out += std::to_string(f[k]) + " " + rank_name(static_cast<int>(k), f[k]);
+  }
+  return out;
+}
+
+// --- models and files ------------------------------------------------------------------------
+
+// load_model reports unreadable files as ParseError, except read failures after a successful
+// open (a directory given as the model), which libstdc++ raises as std::ios_base::failure.
+Complex load(const std::string& spec) {
+  try {
+    return load_model(spec);
+  } catch (const std::ios_base::failure& e) {
+    throw ParseError(spec, 0, std::string("cannot read: ") + e.what());
+  }
+}
+
+// Invalid models stop every cutting command: a broken complex gives meaningless output.
+void require_valid(const Complex& model, const std::string& spec) {
+  const ValidationReport report = validate(model);
+  if (report.ok()) return;
+  const auto& first = report.issues.front();
+  throw TopologyError(first.rank, {first.id},
+                      "model '" + spec + "' is not a valid complex: " + report.summary());
+}
+
+// Creating missing parent directories is a convenience (documented in --help); failing to
+// create them is a write failure like any other.
+void prepare_output_directory(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  if (fs::is_directory(parent, ec)) return;
+  fs::create_directories(parent, ec);
+  if (ec || !fs::is_directory(parent))
+    throw IoError("cannot write '" + path + "': cannot create directory '" + parent.string() +
+                  "'" + (ec ? ": " + ec.message() : ""));
+}
+
+// --- placement -------------------------------------------------------------------------------
+
+namespace {
+
+Rotation parse_rotation(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos)
+    throw InputError("--rotate '" + text + "': expected PLANE:DEGREES, e.g. xw:30");
+  Rotation r;
+  r.text = text;
+  std::tie(r.axis_i, r.axis_j) = parse_rotation_plane(text.substr(0, colon));
+  r.degrees = parse_number(std::string_view(text).substr(colon + 1), "--rotate '" + text + "'");
+  return r;
+}
+
+}  // namespace
+
+void Placement::add_options(CLI::App& cmd) {
+  cmd.add_option("MODEL", model, "Built-in spec (see 'cw4d list') or a .4off/.off file; or give --scene");
+  cmd.add_option("--scene", scene,
+                 "JSON scene file: several placed, colored models, cut together (instead of "
+                 "MODEL; not with --rotate/--translate)")
+      ->type_name("FILE");
+  cmd.add_option("--normal", normal_text,
+                 "Plane normal in world space, one component per model axis (x,y,z,w); "
+                 "need not be unit length")
+      ->type_name("X,Y,Z,W")
+      ->required();
+  cmd.add_option("--rotate", rotate_text,
+                 "PLANE:DEGREES with PLANE one of xy xz xw yz yw zw; repeatable, the "
+                 "first given is applied first")
+      ->type_name("PLANE:DEG")
+      ->allow_extra_args(false);
+  cmd.add_option("--translate", translate_text, "Translation applied after the rotations")
+      ->type_name("X,Y,Z,W");
+}
+
+void Placement::parse(const std::string& command) {
+  if (!scene.empty() && !model.empty())
+    throw InputError("give a MODEL or --scene, not both ('" + model + "' and --scene " + scene +
+                     ")");
+  if (scene.empty() && model.empty()) throw InputError(command + " needs a MODEL or --scene FILE");
+  // A scene places its objects itself; a second transform on top would be ambiguous.
+  if (!scene.empty() && (!rotate_text.empty() || !translate_text.empty()))
+    throw InputError(std::string(rotate_text.empty() ? "--translate" : "--rotate") +
+                     " contradicts --scene: the scene file places its objects "
+                     "(use \"rotate\" / \"translate\" there)");
+  normal = parse_vector(normal_text, "--normal");
+  if (std::all_of(normal.begin(), normal.end(), [](double x) { return x == 0.0; }))
+    throw InputError("--normal must not be the zero vector");
+  translate.clear();
+  if (!translate_text.empty()) translate = parse_vector(translate_text, "--translate");
+  rotations.clear();
+  for (const auto& r : rotate_text) rotations.push_back(parse_rotation(r));
+}
+
+std::string Placement::input_label() const {
+  return scene.empty() ? "model '" + model + "'" : "scene '" + scene + "'";
+}
+
+void Placement::check_dimension(int dim) const {
+  const std::string where = input_label() + " lives in R^" + std::to_string(dim);
+  if (normal.size() != static_cast<std::size_t>(dim))
+    throw InputError("--normal has " + std::to_string(normal.size()) + " components but " +
+                     where + ": give " + std::to_string(dim) + " comma-separated numbers");
+  if (!translate.empty() && translate.size() != static_cast<std::size_t>(dim))
+    throw InputError("--translate has " + std::to_string(translate.size()) +
+                     " components but " + where);
+  for (const auto& r : rotations)
+    if (r.axis_i >= dim || r.axis_j >= dim)
+      throw InputError("--rotate " + r.text + ": " + where + ", which has no such axis");
+}
+
+AffineTransform Placement::model_to_world(int dim) const {
+  AffineTransform m = AffineTransform::identity(dim);
+  for (const auto& r : rotations)
+    m = AffineTransform::rotation(dim, r.axis_i, r.axis_j, r.degrees * std::numbers::pi / 180.0) *
+        m;
+  if (!translate.empty())
+    m = AffineTransform::translation(Eigen::Map<const Eigen::VectorXd>(translate.data(), dim)) *
+        m;
+  return m;
+}
+
+std::string Placement::transform_text() const {
+  std::string text;
+  for (const auto& r : rotations) text += " rotate " + r.text + ";";
+  if (!translate.empty()) text += " translate (" + join(translate, exact) + ");";
+  if (text.empty()) text = " identity;";
+  text.pop_back();
+  return text;
+}
+
+Hyperplane Placement::plane(double offset) const {
+  return Hyperplane::from(
+      Eigen::Map<const Eigen::VectorXd>(normal.data(), static_cast<Eigen::Index>(normal.size())),
+      offset);
+}
+
+// --- input -----------------------------------------------------------------------------------
+
+std::vector<const Complex*> Input::models() const {
+  std::vector<const Complex*> out;
+  for (const auto& obj : scene.objects) out.push_back(obj.complex.get());
+  return out;
+}
+
+std::vector<std::string> Input::object_names() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& obj = scene.objects[i];
+    if (!is_scene)
+      out.push_back(obj.model);
+    else if (!obj.name.empty())
+      out.push_back(obj.name);
+    else
+      out.push_back("object " + std::to_string(i) + " (" + obj.model + ")");
+  }
+  return out;
+}
+
+Input load_input(const Placement& placement) {
+  Input in;
+  if (!placement.scene.empty()) {
+    in.is_scene = true;
+    in.scene = read_scene_file(placement.scene);
+  } else {
+    auto model = std::make_shared<const Complex>(load(placement.model));
+    SceneObject obj;
+    obj.model = placement.model;
+    obj.complex = model;
+    obj.transform = AffineTransform::identity(model->ambient_dim());
+    in.scene.objects.push_back(std::move(obj));
+  }
+  const int dim = in.dim();
+  placement.check_dimension(dim);
+  if (!in.is_scene) in.scene.objects.front().transform = placement.model_to_world(dim);
+  std::vector<const Complex*> checked;  // objects share models: validate each once
+  for (const auto& obj : in.scene.objects) {
+    if (std::find(checked.begin(), checked.end(), obj.complex.get()) != checked.end()) continue;
+    require_valid(*obj.complex, obj.model);
+    checked.push_back(obj.complex.get());
+  }
+  return in;
+}
+
+Cut cut(const Input& input, const Hyperplane& plane) {
+  Cut out;
+  if (input.is_scene) {
+    out.pieces = section_objects(input.scene, plane);
+    out.section = merge_sections(input.scene, out.pieces);
+  } else {
+    const SceneObject& obj = input.scene.objects.front();
+    out.section = section(*obj.complex, plane, obj.transform);
+  }
+  return out;
+}
+
+}  // namespace cw4d::cli

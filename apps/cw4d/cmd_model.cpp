@@ -1,0 +1,122 @@
+// cw4d list, info and convert: the commands about models themselves.
+#include <iostream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "cli.hpp"
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/validate.hpp"
+
+namespace cw4d::cli {
+
+void add_list_command(CLI::App& app, Commands& commands) {
+  auto* cmd = app.add_subcommand("list", "Print every built-in model spec with a description.");
+  commands.push_back({cmd, [] {
+                        std::size_t width = 0;
+                        for (const auto& b : builtin_list()) width = std::max(width, b.spec.size());
+                        for (const auto& b : builtin_list())
+                          std::cout << b.spec << std::string(width + 2 - b.spec.size(), ' ')
+                                    << b.description << '\n';
+                      }});
+}
+
+namespace {
+
+struct InfoSettings {
+  std::string model;
+  bool json = false;
+};
+
+void run_info(const InfoSettings& s) {
+  const Complex model = load(s.model);
+  const ValidationReport report = validate(model);
+  const int dim = model.ambient_dim();
+  const auto fvec = model.fvector();
+  std::vector<double> lo(dim, 0.0), hi(dim, 0.0);
+  if (!model.empty()) {
+    const Bounds b = bounds(model);
+    for (int i = 0; i < dim; ++i) {
+      lo[i] = b.min(i);
+      hi[i] = b.max(i);
+    }
+  }
+  // The enclosed volume only means something for a valid closed complex.
+  std::optional<double> volume;
+  if (report.ok()) volume = signed_volume(model);
+
+  if (s.json) {
+    nlohmann::ordered_json j;
+    j["model"] = s.model;
+    j["dimension"] = dim;
+    j["fvector"] = fvec;
+    j["valid"] = report.ok();
+    j["summary"] = report.summary();
+    j["issues"] = nlohmann::ordered_json::array();
+    for (const auto& issue : report.issues) j["issues"].push_back(issue.what);
+    j["bounds"] = {{"min", lo}, {"max", hi}};
+    j["volume"] = volume ? nlohmann::ordered_json(*volume) : nlohmann::ordered_json(nullptr);
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::string counts, names;
+  for (std::size_t k = 0; k < fvec.size(); ++k) {
+    if (k) counts += ", ", names += ", ";
+    counts += std::to_string(fvec[k]);
+    names += rank_name(static_cast<int>(k), 2);
+  }
+  std::cout << "model      " << s.model << '\n'
+            << "dimension  " << dim << '\n'
+            << "f-vector   (" << counts << ")  [" << names << "]\n"
+            << "valid      " << (report.ok() ? "yes" : "no: " + report.summary()) << '\n'
+            << "bounds     min (" << join(lo, brief) << ")  max (" << join(hi, brief) << ")\n"
+            << "volume     " << (volume ? brief(*volume) : "n/a (invalid complex)") << '\n';
+}
+
+struct ConvertSettings {
+  std::string model;
+  std::string output;
+};
+
+void run_convert(const ConvertSettings& s) {
+  if (!is_off_extension(lower_extension(s.output)))
+    throw InputError("cannot write '" + s.output +
+                     "': convert writes nOFF, use a .4off, .off or .noff extension");
+  const Complex model = load(s.model);
+  require_valid(model, s.model);
+  prepare_output_directory(s.output);
+  write_off_file(s.output, model);
+  std::cout << "wrote " << s.output << ": " << describe_counts(model) << '\n';
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app, Commands& commands) {
+  auto settings = std::make_shared<InfoSettings>();
+  auto* cmd = app.add_subcommand(
+      "info", "Report dimension, f-vector, validity, bounds and volume of a model.");
+  cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
+      ->required();
+  cmd->add_flag("--json", settings->json, "Print one JSON object instead of text");
+  cmd->footer(
+      "An invalid model is reported (\"valid\": false, with its issues), not an error: exit 0.\n"
+      "The volume is null / n/a for an invalid model. Exit codes: see 'cw4d --help'.");
+  commands.push_back({cmd, [settings] { run_info(*settings); }});
+}
+
+void add_convert_command(CLI::App& app, Commands& commands) {
+  auto settings = std::make_shared<ConvertSettings>();
+  auto* cmd = app.add_subcommand("convert", "Validate a model and write it as nOFF.");
+  cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
+      ->required();
+  cmd->add_option("-o,--output", settings->output, "Output file: .4off, .off or .noff")->required();
+  cmd->footer(
+      "All three extensions write nOFF (\"4OFF\" for 4D models, \"OFF\" for 3D ones).\n"
+      "Missing parent directories of the output are created.\n"
+      "Exit codes: see 'cw4d --help'.");
+  commands.push_back({cmd, [settings] { run_convert(*settings); }});
+}
+
+}  // namespace cw4d::cli

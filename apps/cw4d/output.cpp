@@ -1,0 +1,151 @@
+#include "output.hpp"
+
+#include <array>
+#include <filesystem>
+
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/export/gltf.hpp"
+#include "cw4d/export/mesh_files.hpp"
+#include "cw4d/export/obj.hpp"
+#include "cw4d/export/svg.hpp"
+#include "cw4d/section/uvw.hpp"
+
+namespace cw4d::cli {
+
+namespace {
+
+struct FormatEntry {
+  SectionFormat format;
+  const char* name;
+  std::array<const char*, 3> extensions;  // the first is the usual one
+};
+
+constexpr FormatEntry kFormats[] = {
+    {SectionFormat::obj, "obj", {".obj", nullptr, nullptr}},
+    {SectionFormat::gltf, "gltf", {".gltf", nullptr, nullptr}},
+    {SectionFormat::glb, "glb", {".glb", nullptr, nullptr}},
+    {SectionFormat::ply, "ply", {".ply", nullptr, nullptr}},
+    {SectionFormat::stl, "stl", {".stl", nullptr, nullptr}},
+    {SectionFormat::svg, "svg", {".svg", nullptr, nullptr}},
+    {SectionFormat::off, "4off", {".4off", ".off", ".noff"}},
+};
+
+const FormatEntry& entry(SectionFormat f) {
+  for (const auto& e : kFormats)
+    if (e.format == f) return e;
+  return kFormats[0];
+}
+
+}  // namespace
+
+const char* format_name(SectionFormat f) { return entry(f).name; }
+
+std::string format_extension(SectionFormat f) { return entry(f).extensions[0]; }
+
+std::string supported_formats() {
+  std::string out;
+  for (const auto& e : kFormats) {
+    if (!out.empty()) out += ", ";
+    out += e.name;
+  }
+  return out + " (nOFF also as .off and .noff)";
+}
+
+SectionFormat choose_format(const std::string& path, const std::string& forced) {
+  if (!forced.empty()) {
+    for (const auto& e : kFormats)
+      if (forced == e.name || (e.format == SectionFormat::off && (forced == "off" || forced == "noff")))
+        return e.format;
+    throw InputError("--format " + forced + ": unknown format; supported: " + supported_formats());
+  }
+  const std::string ext = lower_extension(path);
+  for (const auto& e : kFormats)
+    for (const char* x : e.extensions)
+      if (x && ext == x) return e.format;
+  throw InputError("cannot tell the format of '" + path + "' from its extension" +
+                   (ext.empty() ? "" : " '" + ext + "'") + ": supported: " + supported_formats() +
+                   "; or give --format");
+}
+
+void check_format(SectionFormat f, int dim, const std::string& where) {
+  // The section lives in R^(dim-1); each writer holds only some dimensions. A 3D model's
+  // section is a polygon outline: an OBJ of `l` line elements.
+  switch (f) {
+    case SectionFormat::obj:
+      if (dim != 4 && dim != 3)
+        throw InputError("OBJ output holds sections of 3D and 4D models; " + where +
+                         (dim > 4 ? " (write .4off instead)" : ""));
+      break;
+    case SectionFormat::off:
+      if (dim < 4 || dim > 10)
+        throw InputError("nOFF holds sections of 4D..10D models; " + where +
+                         " (write .obj instead)");
+      break;
+    case SectionFormat::svg:
+      if (dim != 4) throw InputError("SVG pictures show 3D sections of 4D models; " + where);
+      break;
+    default:
+      if (dim != 4)
+        throw InputError(std::string(format_name(f)) +
+                         " output holds 3D sections of 4D models; " + where);
+  }
+}
+
+std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw) {
+  CornerUvw corners;
+  if (uvw) corners = section_uvw(sec, input.models());
+  return triangle_meshes(sec, input.object_names(), uvw ? &corners : nullptr);
+}
+
+std::string write_section(const std::string& path, const Section& sec, const Input& input,
+                          const SectionOutput& out) {
+  namespace fs = std::filesystem;
+  prepare_output_directory(path);
+  switch (out.format) {
+    case SectionFormat::obj: {
+      ObjOptions opt;
+      opt.triangulate = out.triangulate;
+      opt.comment = out.comment;
+      CornerUvw corners;
+      if (out.uvw && sec.complex.ambient_dim() == 3 && sec.complex.top_rank() >= 2) {
+        corners = section_uvw(sec, input.models());
+        opt.uvw = &corners;
+      }
+      write_obj_file(path, sec, opt);
+      if (!mtl_text(sec.complex).empty())
+        return path + " and " + fs::path(path).replace_extension(".mtl").string();
+      return path;
+    }
+    case SectionFormat::gltf:
+    case SectionFormat::glb: {
+      GltfOptions opt;
+      opt.binary = out.format == SectionFormat::glb;
+      opt.description = out.comment;
+      std::vector<GltfNode> nodes;
+      for (auto& mesh : section_meshes(sec, input, out.uvw)) {
+        GltfNode node;
+        node.name = mesh.name;
+        node.meshes.push_back(std::move(mesh));
+        nodes.push_back(std::move(node));
+      }
+      write_gltf_file(path, nodes, opt);
+      if (opt.binary) return path;
+      return path + " and " + fs::path(path).replace_extension(".bin").string();
+    }
+    case SectionFormat::ply:
+      write_ply_file(path, section_meshes(sec, input, false));
+      return path;
+    case SectionFormat::stl:
+      write_stl_file(path, section_meshes(sec, input, false));
+      return path;
+    case SectionFormat::svg:
+      write_svg_file(path, sec);
+      return path;
+    case SectionFormat::off:
+      write_off_file(path, sec.complex);
+      return path;
+  }
+  return path;
+}
+
+}  // namespace cw4d::cli

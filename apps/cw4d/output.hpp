@@ -1,0 +1,41 @@
+#pragma once
+// Writing a section in the format its output path asks for (slice and sweep).
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "cw4d/export/mesh.hpp"
+
+namespace cw4d::cli {
+
+enum class SectionFormat { obj, gltf, glb, ply, stl, svg, off };
+
+/// "obj", "gltf", ...
+const char* format_name(SectionFormat f);
+/// "obj, gltf, glb, ply, stl, svg, 4off (also .off, .noff)" for help texts and errors.
+std::string supported_formats();
+/// The format named by --format (when not empty), else by the extension of `path`.
+/// \throw InputError naming the supported formats.
+SectionFormat choose_format(const std::string& path, const std::string& forced);
+/// The usual file extension (".obj", ".4off", ...).
+std::string format_extension(SectionFormat f);
+/// The checks of a format against the input: mesh formats hold sections of 4D models (OBJ also
+/// of 3D ones), nOFF of 4D..10D ones. \throw InputError
+void check_format(SectionFormat f, int dim, const std::string& where);
+
+struct SectionOutput {
+  SectionFormat format = SectionFormat::obj;
+  bool triangulate = false;  ///< OBJ: triangles instead of polygons
+  bool uvw = true;           ///< OBJ and glTF: texture coordinates
+  std::string comment;       ///< OBJ header, glTF asset description
+};
+
+/// Writes `sec` (cut from `input`) to `path`, through temporary files and renames.
+/// \return the files written, e.g. "a.obj and a.mtl".
+std::string write_section(const std::string& path, const Section& sec, const Input& input,
+                          const SectionOutput& out);
+
+/// The glTF meshes of one section (per object), with UVW when asked.
+std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw);
+
+}  // namespace cw4d::cli
