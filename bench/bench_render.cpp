@@ -1,0 +1,241 @@
+// Frame time of the software rasterizer (render/) at 1920x1080, next to Mesa's llvmpipe through
+// OSMesa drawing the same triangles with legacy OpenGL (client arrays, fixed-function lighting).
+//
+// Scenes: the section of the 120-cell by a generic plane (~200 triangles: fill-bound) and the
+// section of spherinder:1,320 (~1e5 triangles: setup-bound). Both renderers draw every triangle
+// of the same mesh (no culling), with a depth buffer, two directional lights and a point light.
+// Differences that favour llvmpipe: it lights per vertex (Gouraud) where cw4d lights per
+// pixel (Blinn-Phong), and it writes 8-bit pixels where cw4d resolves to linear float RGBA.
+// cw4d runs with 1 sample per pixel (as llvmpipe, which has no MSAA through OSMesa) and with
+// 2x2 samples; threads = all cores unless the name says /threads:1.
+//
+// In console mode the program ends with wall-time ratios cw4d / llvmpipe from the same run.
+//
+//   bench_render [--benchmark_filter=REGEX] [--benchmark_min_time=SECONDS] ...
+#include <benchmark/benchmark.h>
+
+#include <GL/osmesa.h>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <unistd.h>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/render/camera.hpp"
+#include "cw4d/render/raster.hpp"
+#include "cw4d/render/section_view.hpp"
+#include "cw4d/section/section.hpp"
+
+namespace {
+
+constexpr int kWidth = 1920, kHeight = 1080;
+
+struct Case {
+  std::string name;
+  cw4d::render::TriangleMesh mesh;
+  cw4d::render::Camera camera;
+};
+
+Case make_case(const std::string& name, const std::string& spec, const Eigen::VectorXd& normal,
+               double offset) {
+  const cw4d::Complex model = cw4d::load_model(spec);
+  const cw4d::Section s = cw4d::section(model, cw4d::Hyperplane::from(normal, offset));
+  Case c;
+  c.name = name;
+  c.mesh = cw4d::render::section_mesh(s, &model);
+  for (auto& v : c.mesh.vertices) v.normal = glm::normalize(v.normal);  // GL wants unit normals
+  cw4d::render::SectionViewOptions o;
+  o.raster.width = kWidth;
+  o.raster.height = kHeight;
+  c.camera = cw4d::render::section_camera(s, o);
+  return c;
+}
+
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = [] {
+    Eigen::VectorXd n(4);
+    n << 1.0, 0.7, 0.4, 0.2;
+    Eigen::VectorXd m(4);
+    m << 0.3, 0.0, 0.0, 1.0;
+    std::vector<Case> v;
+    v.push_back(make_case("120-cell", "120-cell", n, 0.3));
+    v.push_back(make_case("spherinder:1,320", "spherinder:1,320", m, 0.1));
+    return v;
+  }();
+  return all;
+}
+
+void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads) {
+  using namespace cw4d::render;
+  RasterOptions ro;
+  ro.width = kWidth;
+  ro.height = kHeight;
+  ro.samples_per_axis = samples;
+  ro.threads = threads;
+  const Lighting lighting = Lighting::studio(c->camera);
+  double coverage = 0.0;
+  for (auto _ : state) {
+    Rasterizer r(ro);
+    r.draw(c->mesh, c->camera.view(r.aspect()), lighting);
+    Image img = r.render();
+    benchmark::DoNotOptimize(img.pixels.data());
+    coverage = img.coverage();
+  }
+  state.counters["drawn"] = coverage / (kWidth * kHeight);
+  state.counters["triangles"] = static_cast<double>(c->mesh.triangles.size());
+}
+
+// One OSMesa context per case, created on first use.
+struct GlState {
+  OSMesaContext ctx = nullptr;
+  std::vector<unsigned char> buffer;
+  std::vector<float> positions, normals, colors;
+  std::vector<unsigned> indices;
+  std::string renderer;
+};
+
+bool gl_setup(GlState& g, const Case& c) {
+  g.ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+  if (!g.ctx) return false;
+  g.buffer.assign(static_cast<std::size_t>(kWidth) * kHeight * 4, 0);
+  if (!OSMesaMakeCurrent(g.ctx, g.buffer.data(), GL_UNSIGNED_BYTE, kWidth, kHeight)) return false;
+  const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  g.renderer = r ? r : "?";
+  for (const auto& v : c.mesh.vertices) {
+    g.positions.insert(g.positions.end(), {v.position.x, v.position.y, v.position.z});
+    g.normals.insert(g.normals.end(), {v.normal.x, v.normal.y, v.normal.z});
+    g.colors.insert(g.colors.end(), {v.color.r, v.color.g, v.color.b, v.color.a});
+  }
+  for (const auto& t : c.mesh.triangles) g.indices.insert(g.indices.end(), {t[0], t[1], t[2]});
+  const float aspect = static_cast<float>(kWidth) / kHeight;
+  glViewport(0, 0, kWidth, kHeight);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glMatrixMode(GL_PROJECTION);
+  glLoadMatrixf(glm::value_ptr(c.camera.projection_matrix(aspect)));
+  glMatrixMode(GL_MODELVIEW);
+  glLoadMatrixf(glm::value_ptr(c.camera.view_matrix()));
+  // The same rig as Lighting::studio, given in world coordinates (modelview = view here).
+  const cw4d::render::Lighting lit = cw4d::render::Lighting::studio(c.camera);
+  glEnable(GL_LIGHTING);
+  glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+  const float ambient[4] = {lit.ambient.r, lit.ambient.g, lit.ambient.b, 1.0f};
+  glLightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
+  for (std::size_t i = 0; i < lit.lights.size() && i < 8; ++i) {
+    const auto& l = lit.lights[i];
+    const GLenum id = GL_LIGHT0 + static_cast<GLenum>(i);
+    const bool point = l.kind == cw4d::render::Light::Kind::Point;
+    const float pos[4] = {l.vector.x, l.vector.y, l.vector.z, point ? 1.0f : 0.0f};
+    const float col[4] = {l.color.r, l.color.g, l.color.b, 1.0f};
+    const float spec[4] = {lit.specular, lit.specular, lit.specular, 1.0f};
+    glEnable(id);
+    glLightfv(id, GL_POSITION, pos);
+    glLightfv(id, GL_DIFFUSE, col);
+    glLightfv(id, GL_SPECULAR, spec);
+    if (point) glLightf(id, GL_QUADRATIC_ATTENUATION, l.attenuation);
+  }
+  glEnable(GL_COLOR_MATERIAL);
+  glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+  const float white[4] = {1, 1, 1, 1};
+  glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, white);
+  glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, std::min(lit.shininess, 128.0f));
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_NORMAL_ARRAY);
+  glEnableClientState(GL_COLOR_ARRAY);
+  glVertexPointer(3, GL_FLOAT, 0, g.positions.data());
+  glNormalPointer(GL_FLOAT, 0, g.normals.data());
+  glColorPointer(4, GL_FLOAT, 0, g.colors.data());
+  glClearColor(0, 0, 0, 0);
+  return true;
+}
+
+void bm_llvmpipe(benchmark::State& state, const Case* c) {
+  GlState g;
+  if (!gl_setup(g, *c)) {
+    state.SkipWithError("OSMesa context creation failed");
+    return;
+  }
+  for (auto _ : state) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.indices.size()), GL_UNSIGNED_INT, g.indices.data());
+    glFinish();
+    benchmark::DoNotOptimize(g.buffer.data());
+  }
+  // Fraction of pixels drawn (alpha != 0), to compare with cw4d's coverage counter.
+  std::size_t drawn = 0;
+  for (std::size_t i = 3; i < g.buffer.size(); i += 4) drawn += g.buffer[i] != 0;
+  state.counters["drawn"] = static_cast<double>(drawn) / (kWidth * kHeight);
+  state.SetLabel(g.renderer);
+  state.counters["triangles"] = static_cast<double>(c->mesh.triangles.size());
+  OSMesaDestroyContext(g.ctx);
+}
+
+void register_cases() {
+  for (const Case& c : cases()) {
+    const Case* p = &c;
+    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1").c_str(), bm_cw4d, p, 1, 0)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1/threads:1").c_str(), bm_cw4d, p, 1, 1)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:2x2").c_str(), bm_cw4d, p, 2, 0)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+    benchmark::RegisterBenchmark(("llvmpipe/" + c.name).c_str(), bm_llvmpipe, p)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+  }
+}
+
+// The console reporter, plus wall-time ratios cw4d / llvmpipe of this run.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  explicit RatioReporter(bool color) : ConsoleReporter(color ? OO_ColorTabular : OO_Tabular) {}
+  void ReportRuns(const std::vector<Run>& reports) override {
+    ConsoleReporter::ReportRuns(reports);
+    for (const Run& run : reports)
+      if (run.run_type == Run::RT_Iteration && !run.error_occurred)
+        times_[run.benchmark_name()] = run.GetAdjustedRealTime();
+  }
+  void Finalize() override {
+    ConsoleReporter::Finalize();
+    std::printf("\nWall time per frame, cw4d / llvmpipe (same run):\n");
+    for (const Case& c : cases()) {
+      const auto gl = times_.find("llvmpipe/" + c.name + "/min_time:1.000/real_time");
+      if (gl == times_.end()) continue;
+      for (const char* variant : {"samples:1", "samples:1/threads:1", "samples:2x2"}) {
+        const auto ours = times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
+        if (ours == times_.end()) continue;
+        std::printf("  %-18s %-20s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
+      }
+    }
+  }
+
+ private:
+  std::map<std::string, double> times_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool console = true;
+  bool color = isatty(STDOUT_FILENO) != 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg.starts_with("--benchmark_format=") && arg != "--benchmark_format=console") console = false;
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  register_cases();
+  if (console) {
+    RatioReporter reporter(color);
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+  } else {
+    benchmark::RunSpecifiedBenchmarks();
+  }
+  benchmark::Shutdown();
+  return 0;
+}

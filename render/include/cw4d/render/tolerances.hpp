@@ -1,0 +1,28 @@
+#pragma once
+// Every tolerance of the renderer, in one place (the geometry's own are in
+// complex/tolerances.hpp). Each is relative to the scale stated.
+
+namespace cw4d::render::tol {
+
+/// ConvexOccluder::from: a polytope is convex when no vertex lies farther than this times its
+/// bounding radius outside a facet's hyperplane (planar facets of the built-ins are exact to
+/// ~1e-15; a real dent is far larger).
+inline constexpr double occluder_convex_rel = 1e-7;
+
+/// An eye counts as in front of a facet only when its distance from the facet's hyperplane
+/// exceeds this times (occluder radius + |eye| + |centre|): an eye in the plane of a facet sees
+/// it edge-on, as a back facet.
+inline constexpr double eye_facet_band_rel = 1e-12;
+
+/// Default shrink of an occluder's shadow, relative to its radius, so that edges lying on its
+/// own surface are not culled by rounding (seed 000: "待剔除面可以向内部缩进去一个很小的值").
+inline constexpr double shadow_margin_rel = 1e-6;
+
+/// Stereographic projection: points within this of the north pole (1 - w) are not projected.
+inline constexpr double pole_gap = 1e-9;
+
+/// Camera::view: the up vector must be at least this far (sine of the angle) from the viewing
+/// direction.
+inline constexpr float up_parallel_sin = 1e-6f;
+
+}  // namespace cw4d::render::tol

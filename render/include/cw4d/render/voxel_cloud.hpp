@@ -1,0 +1,48 @@
+#pragma once
+// Voxel clouds (seed 000 "体素云渲染", seed 004 slice stacking): many parallel sections of a
+// scene, each drawn as one layer of a 3D "voxel picture", composited back to front.
+//
+// The volume has coordinates (u, v, s): (u, v) are the first two axes of the hyperplane basis
+// and s = n . x is the layer offset. Every layer is the section at s, seen along the third
+// basis axis (orthographic, so the layer is a flat picture at height s of the volume), shaded
+// with Blinn-Phong. An orthographic 3D camera views the volume from `view_from`, and the layers
+// are blended "over" each other from the farthest to the nearest.
+//
+// Opacity correction: an object's opacity alpha is the opacity of the cloud's whole depth seen
+// face-on (the reference thickness D0 = the extent along n). Light crossing one layer of
+// spacing d at angle theta to the layer normal travels D = d / cos(theta), so every layer uses
+// alpha' = 1 - (1 - alpha)^(D / D0): the picture does not change with the number of layers,
+// and grows denser when the volume is seen at a grazing angle.
+#include <Eigen/Core>
+#include <glm/vec3.hpp>
+
+#include "cw4d/complex/scene.hpp"
+#include "cw4d/render/image.hpp"
+#include "cw4d/render/raster.hpp"
+
+namespace cw4d::render {
+
+struct CloudOptions {
+  RasterOptions raster;
+  int layers = 64;
+  /// Multiplies every object's opacity (a single model's opacity is 1).
+  float opacity = 0.97f;
+  /// Direction the volume (u, v, s) is seen from.
+  glm::vec3 view_from{0.3f, -0.6f, 1.0f};
+  glm::vec3 background{1.0f};  ///< linear
+  /// Color every face by a palette hue of its source cell (keeping the object's opacity)
+  /// instead of the scene's colors: for single, uncolored models.
+  bool cell_palette = false;
+  /// false: keep the composite over a transparent background (premultiplied alpha).
+  bool flatten = true;
+};
+
+/// alpha' = 1 - (1 - alpha)^(path / reference): the opacity of a slab of thickness `path` for a
+/// material whose slab of thickness `reference` has opacity alpha.
+float corrected_opacity(float alpha, double path, double reference);
+
+/// The cloud picture. \throw InputError for a scene that is not 4-dimensional, a zero normal
+///        or a layer count outside 1..4096.
+Image render_voxel_cloud(const Scene& scene, const Eigen::VectorXd& normal, const CloudOptions& options);
+
+}  // namespace cw4d::render

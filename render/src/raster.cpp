@@ -1,0 +1,596 @@
+#include "cw4d/render/raster.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+#include <thread>
+
+#include "cw4d/complex/error.hpp"
+
+namespace cw4d::render {
+
+namespace {
+
+constexpr int kSubpixelBits = 8;
+constexpr std::int64_t kSubpixel = 1 << kSubpixelBits;
+constexpr int kTile = 64;
+constexpr std::size_t kChunk = 2048;  // triangles per geometry work item
+constexpr int kMaxSide = 16384;
+
+// Interpolated per vertex: world position, normal, color.
+struct Attr {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};
+  glm::vec4 color{0.0f};
+};
+
+Attr lerp(const Attr& a, const Attr& b, float t) {
+  return {a.position + t * (b.position - a.position), a.normal + t * (b.normal - a.normal),
+          a.color + t * (b.color - a.color)};
+}
+
+Attr scaled(const Attr& a, float s) { return {a.position * s, a.normal * s, a.color * s}; }
+
+struct ClipVertex {
+  glm::vec4 clip;
+  Attr attr;
+};
+
+// A triangle ready for rasterization: fixed-point screen position (y down), depth, 1/w and
+// attributes premultiplied by 1/w. Oriented so that its edge functions are positive inside.
+struct ScreenTriangle {
+  std::array<std::int64_t, 3> x, y;
+  std::array<float, 3> z;
+  std::array<float, 3> inv_w;
+  std::array<Attr, 3> attr;  // attr / w
+  int x0, y0, x1, y1;        // pixel bounding box, inclusive, inside the image
+  std::uint32_t draw;
+};
+
+struct DrawState {
+  View view;
+  Lighting lighting;
+  DrawOptions options;
+  float specular_cutoff = 0.0f;  // below this N.H the highlight is under 1e-3: not computed
+};
+
+DrawState make_state(const View& view, const Lighting& lighting, const DrawOptions& options) {
+  DrawState d{view, lighting, options, 0.0f};
+  if (options.blend == Blend::Over) d.options.depth_write = false;
+  if (lighting.shininess > 0.0f) d.specular_cutoff = std::exp(std::log(1e-3f) / lighting.shininess);
+  return d;
+}
+
+// Inside when >= 0: the six frustum planes of OpenGL clip space.
+float plane_value(const glm::vec4& c, int plane) {
+  switch (plane) {
+    case 0: return c.w + c.x;
+    case 1: return c.w - c.x;
+    case 2: return c.w + c.y;
+    case 3: return c.w - c.y;
+    case 4: return c.w + c.z;
+    default: return c.w - c.z;
+  }
+}
+
+// Sutherland-Hodgman against the planes in `mask` (bit i = plane i), in clip space where
+// linear interpolation of every attribute is exact.
+void clip_polygon(std::vector<ClipVertex>& poly, std::vector<ClipVertex>& scratch, unsigned mask) {
+  for (int plane = 0; plane < 6 && !poly.empty(); ++plane) {
+    if (!(mask & (1u << plane))) continue;
+    scratch.clear();
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const ClipVertex& a = poly[i];
+      const ClipVertex& b = poly[(i + 1) % n];
+      const float da = plane_value(a.clip, plane), db = plane_value(b.clip, plane);
+      if (da >= 0.0f) scratch.push_back(a);
+      if ((da >= 0.0f) != (db >= 0.0f)) {
+        // Computed from the inside end, so that the two triangles sharing this edge get the
+        // very same point (no crack, no double coverage along a clipped shared edge).
+        const ClipVertex& from = da >= 0.0f ? a : b;
+        const ClipVertex& to = da >= 0.0f ? b : a;
+        const float df = da >= 0.0f ? da : db, dt = da >= 0.0f ? db : da;
+        const float t = df / (df - dt);
+        scratch.push_back({from.clip + t * (to.clip - from.clip), lerp(from.attr, to.attr, t)});
+      }
+    }
+    poly.swap(scratch);
+  }
+}
+
+unsigned outcode(const glm::vec4& c) {
+  unsigned code = 0;
+  for (int p = 0; p < 6; ++p)
+    if (plane_value(c, p) < 0.0f) code |= 1u << p;
+  return code;
+}
+
+struct ScreenVertex {
+  float x, y, z, inv_w;
+  Attr attr;  // divided by w
+};
+
+ScreenVertex to_screen(const ClipVertex& v, int width, int height) {
+  const float inv_w = 1.0f / v.clip.w;
+  ScreenVertex s;
+  s.x = (v.clip.x * inv_w * 0.5f + 0.5f) * static_cast<float>(width);
+  s.y = (0.5f - v.clip.y * inv_w * 0.5f) * static_cast<float>(height);
+  s.z = std::clamp(v.clip.z * inv_w * 0.5f + 0.5f, 0.0f, 1.0f);
+  s.inv_w = inv_w;
+  s.attr = scaled(v.attr, inv_w);
+  return s;
+}
+
+// Builds the screen triangle (a, b, c); false when it has no area or is culled.
+bool setup(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, bool cull_back,
+           int width, int height, std::uint32_t draw, ScreenTriangle& t) {
+  const ScreenVertex* v[3] = {&a, &b, &c};
+  for (int i = 0; i < 3; ++i) {
+    t.x[i] = std::llround(static_cast<double>(v[i]->x) * kSubpixel);
+    t.y[i] = std::llround(static_cast<double>(v[i]->y) * kSubpixel);
+  }
+  const std::int64_t cross =
+      (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
+  if (cross == 0) return false;
+  // y points down: counter-clockwise in normalized device coordinates (front) has cross < 0.
+  const bool front = cross < 0;
+  if (cull_back && !front) return false;
+  if (front) {  // make the edge functions positive inside
+    std::swap(v[1], v[2]);
+    std::swap(t.x[1], t.x[2]);
+    std::swap(t.y[1], t.y[2]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    t.z[i] = v[i]->z;
+    t.inv_w[i] = v[i]->inv_w;
+    t.attr[i] = v[i]->attr;
+  }
+  const std::int64_t min_x = std::min({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t max_x = std::max({t.x[0], t.x[1], t.x[2]});
+  const std::int64_t min_y = std::min({t.y[0], t.y[1], t.y[2]});
+  const std::int64_t max_y = std::max({t.y[0], t.y[1], t.y[2]});
+  t.x0 = static_cast<int>(std::clamp<std::int64_t>(min_x >> kSubpixelBits, 0, width - 1));
+  t.x1 = static_cast<int>(std::clamp<std::int64_t>(max_x >> kSubpixelBits, 0, width - 1));
+  t.y0 = static_cast<int>(std::clamp<std::int64_t>(min_y >> kSubpixelBits, 0, height - 1));
+  t.y1 = static_cast<int>(std::clamp<std::int64_t>(max_y >> kSubpixelBits, 0, height - 1));
+  if (max_x < 0 || max_y < 0 || min_x >= static_cast<std::int64_t>(width) * kSubpixel ||
+      min_y >= static_cast<std::int64_t>(height) * kSubpixel)
+    return false;
+  t.draw = draw;
+  return true;
+}
+
+glm::vec4 shade(const DrawState& d, const Attr& a) {
+  const glm::vec4 base = a.color;
+  if (d.options.shading == Shading::Unlit || glm::dot(a.normal, a.normal) <= 0.0f) return base;
+  glm::vec3 n = glm::normalize(a.normal);
+  const glm::vec3 v = d.view.to_viewer(a.position);
+  if (glm::dot(n, v) < 0.0f) n = -n;  // two-sided: light the side the viewer sees
+  const Lighting& lit = d.lighting;
+  glm::vec3 c = lit.ambient * glm::vec3(base);
+  for (const Light& light : lit.lights) {
+    glm::vec3 l = light.vector;
+    float intensity = 1.0f;
+    if (light.kind == Light::Kind::Point) {
+      l = light.vector - a.position;
+      const float d2 = glm::dot(l, l);
+      intensity = 1.0f / (1.0f + light.attenuation * d2);
+    }
+    const float len = glm::length(l);
+    if (!(len > 0.0f)) continue;
+    l /= len;
+    const float diffuse = glm::dot(n, l);
+    if (diffuse <= 0.0f) continue;
+    const glm::vec3 h = glm::normalize(l + v);
+    const float nh = glm::dot(n, h);
+    const float spec =
+        nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
+    c += intensity * light.color * (glm::vec3(base) * diffuse + glm::vec3(spec));
+  }
+  return glm::vec4(c, base.a);
+}
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+// Edge k is opposite vertex k, from v[k+1] to v[k+2]: E_k = A x + B y + C > 0 inside, and
+// E_k(v_k) = twice the area. bias is -1 for edges that are not top or left: a sample exactly
+// on such an edge belongs to the neighbour.
+struct Edges {
+  std::int64_t A[3], B[3], C[3], bias[3];
+  double inv_area;
+};
+
+Edges edges_of(const ScreenTriangle& t) {
+  Edges e;
+  for (int k = 0; k < 3; ++k) {
+    const int i0 = (k + 1) % 3, i1 = (k + 2) % 3;
+    const std::int64_t dx = t.x[i1] - t.x[i0], dy = t.y[i1] - t.y[i0];
+    e.A[k] = -dy;
+    e.B[k] = dx;
+    e.C[k] = dy * t.x[i0] - dx * t.y[i0];
+    const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+    e.bias[k] = top_left ? 0 : -1;
+  }
+  e.inv_area = 1.0 / static_cast<double>(e.A[0] * t.x[0] + e.B[0] * t.y[0] + e.C[0]);
+  return e;
+}
+
+// Perspective-correct attributes at the fixed-point sample (X, Y), shaded.
+glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, std::int64_t X,
+                   std::int64_t Y) {
+  float b[3];
+  for (int k = 0; k < 3; ++k)
+    b[k] = static_cast<float>(static_cast<double>(e.A[k] * X + e.B[k] * Y + e.C[k]) * e.inv_area);
+  const float inv_w = b[0] * t.inv_w[0] + b[1] * t.inv_w[1] + b[2] * t.inv_w[2];
+  const float wgt = inv_w != 0.0f ? 1.0f / inv_w : 0.0f;
+  Attr a;
+  a.position = (b[0] * t.attr[0].position + b[1] * t.attr[1].position + b[2] * t.attr[2].position) * wgt;
+  a.normal = (b[0] * t.attr[0].normal + b[1] * t.attr[1].normal + b[2] * t.attr[2].normal) * wgt;
+  a.color = (b[0] * t.attr[0].color + b[1] * t.attr[1].color + b[2] * t.attr[2].color) * wgt;
+  return shade(d, a);
+}
+
+}  // namespace
+
+void TriangleMesh::append(const TriangleMesh& other) {
+  const auto offset = static_cast<std::uint32_t>(vertices.size());
+  vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (const auto& t : other.triangles) triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+}
+
+Lighting Lighting::studio(const Camera& camera) {
+  const glm::vec3 f = camera.forward();
+  const glm::vec3 r = camera.right();
+  const glm::vec3 u = glm::cross(r, f);
+  Lighting l;
+  l.ambient = glm::vec3(0.2f);
+  l.lights.push_back({Light::Kind::Directional, glm::normalize(-f - 0.6f * r + 0.8f * u),
+                      glm::vec3(0.75f), 0.0f});
+  l.lights.push_back({Light::Kind::Directional, glm::normalize(-f + 0.9f * r - 0.2f * u),
+                      glm::vec3(0.25f), 0.0f});
+  const float dist = glm::length(camera.eye - camera.target);
+  l.lights.push_back({Light::Kind::Point, camera.eye, glm::vec3(0.15f),
+                      dist > 0.0f ? 1.0f / (dist * dist) : 0.0f});
+  return l;
+}
+
+struct Rasterizer::Impl {
+  std::vector<DrawState> draws;
+  std::vector<ScreenTriangle> triangles;
+};
+
+Rasterizer::Rasterizer(const RasterOptions& options) : options_(options), impl_(std::make_unique<Impl>()) {
+  if (options.width < 1 || options.height < 1 || options.width > kMaxSide || options.height > kMaxSide)
+    throw InputError("image size " + std::to_string(options.width) + "x" +
+                     std::to_string(options.height) + " outside 1..16384");
+  if (options.samples_per_axis < 1 || options.samples_per_axis > 4)
+    throw InputError("samples per axis must be 1..4, not " + std::to_string(options.samples_per_axis));
+  if (options.threads < 0) throw InputError("the thread count cannot be negative");
+}
+
+Rasterizer::~Rasterizer() = default;
+Rasterizer::Rasterizer(Rasterizer&&) noexcept = default;
+Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
+
+std::size_t Rasterizer::queued_triangles() const { return impl_->triangles.size(); }
+
+void Rasterizer::clear() {
+  impl_->draws.clear();
+  impl_->triangles.clear();
+}
+
+namespace {
+
+int worker_count(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Runs f(i) for i in [0, n) on up to `threads` workers (each index exactly once).
+template <class F>
+void parallel_for(std::size_t n, int threads, F&& f) {
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(threads), n);
+  if (workers <= 1) {
+    for (std::size_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t i = next++; i < n; i = next++) f(i);
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+}
+
+// Geometry stage over chunks: each chunk's output is kept apart and concatenated in order, so
+// the result is independent of the number of workers.
+template <class Produce>
+void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out, Produce&& produce) {
+  const std::size_t chunks = (count + kChunk - 1) / kChunk;
+  std::vector<std::vector<ScreenTriangle>> parts(chunks);
+  parallel_for(chunks, threads, [&](std::size_t c) {
+    produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
+  });
+  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+}
+
+void sort_back_to_front(std::vector<ScreenTriangle>& tris, std::size_t from) {
+  std::stable_sort(tris.begin() + static_cast<std::ptrdiff_t>(from), tris.end(),
+                   [](const ScreenTriangle& a, const ScreenTriangle& b) {
+                     return a.z[0] + a.z[1] + a.z[2] > b.z[0] + b.z[1] + b.z[2];
+                   });
+}
+
+}  // namespace
+
+void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting& lighting,
+                      const DrawOptions& options) {
+  const std::size_t nv = mesh.vertices.size();
+  for (const auto& t : mesh.triangles)
+    if (t[0] >= nv || t[1] >= nv || t[2] >= nv)
+      throw InputError("triangle mesh: vertex index out of range");
+  const auto draw_id = static_cast<std::uint32_t>(impl_->draws.size());
+  impl_->draws.push_back(make_state(view, lighting, options));
+  const int w = options_.width, h = options_.height;
+  const std::size_t first = impl_->triangles.size();
+  run_chunks(mesh.triangles.size(), worker_count(options_.threads), impl_->triangles,
+             [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
+               std::vector<ClipVertex> poly, scratch;
+               std::vector<ScreenVertex> screen;
+               for (std::size_t i = begin; i < end; ++i) {
+                 const auto& tri = mesh.triangles[i];
+                 poly.clear();
+                 unsigned all = ~0u, any = 0;
+                 for (auto id : tri) {
+                   const Vertex& v = mesh.vertices[id];
+                   ClipVertex cv{view.clip_from_world * glm::vec4(v.position, 1.0f),
+                                 {v.position, v.normal, v.color}};
+                   const unsigned code = outcode(cv.clip);
+                   all &= code;
+                   any |= code;
+                   poly.push_back(cv);
+                 }
+                 if (all) continue;  // entirely outside one plane
+                 if (any) clip_polygon(poly, scratch, any);
+                 if (poly.size() < 3) continue;
+                 screen.clear();
+                 for (const auto& cv : poly) screen.push_back(to_screen(cv, w, h));
+                 for (std::size_t k = 1; k + 1 < screen.size(); ++k) {
+                   ScreenTriangle st;
+                   if (setup(screen[0], screen[k], screen[k + 1], options.cull_back_faces, w, h,
+                             draw_id, st))
+                     out.push_back(st);
+                 }
+               }
+             });
+  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
+}
+
+void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& view,
+                            const DrawOptions& options) {
+  const auto draw_id = static_cast<std::uint32_t>(impl_->draws.size());
+  impl_->draws.push_back(make_state(view, Lighting{}, options));
+  impl_->draws.back().options.shading = Shading::Unlit;
+  const int w = options_.width, h = options_.height;
+  const float half = 0.5f * std::max(options.line_width, 0.0f);
+  const std::size_t first = impl_->triangles.size();
+  run_chunks(lines.size(), worker_count(options_.threads), impl_->triangles,
+             [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
+               for (std::size_t i = begin; i < end; ++i) {
+                 const LineSegment& s = lines[i];
+                 glm::vec3 a = s.a, b = s.b;
+                 if (options.pull_toward_viewer != 0.0f) {
+                   a += options.pull_toward_viewer * view.to_viewer(a);
+                   b += options.pull_toward_viewer * view.to_viewer(b);
+                 }
+                 ClipVertex ca{view.clip_from_world * glm::vec4(a, 1.0f), {a, {}, s.color_a}};
+                 ClipVertex cb{view.clip_from_world * glm::vec4(b, 1.0f), {b, {}, s.color_b}};
+                 // Liang-Barsky in homogeneous coordinates.
+                 float t0 = 0.0f, t1 = 1.0f;
+                 bool visible = true;
+                 for (int p = 0; p < 6 && visible; ++p) {
+                   const float da = plane_value(ca.clip, p), db = plane_value(cb.clip, p);
+                   if (da < 0.0f && db < 0.0f) visible = false;
+                   else if (da < 0.0f) t0 = std::max(t0, da / (da - db));
+                   else if (db < 0.0f) t1 = std::min(t1, da / (da - db));
+                 }
+                 if (!visible || t0 >= t1) continue;
+                 const ClipVertex pa{ca.clip + t0 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t0)};
+                 const ClipVertex pb{ca.clip + t1 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t1)};
+                 const ScreenVertex sa = to_screen(pa, w, h), sb = to_screen(pb, w, h);
+                 glm::vec2 d(sb.x - sa.x, sb.y - sa.y);
+                 const float len = glm::length(d);
+                 d = len > 1e-6f ? d / len : glm::vec2(1.0f, 0.0f);
+                 const glm::vec2 n(-d.y * half, d.x * half);
+                 const glm::vec2 e = d * half;
+                 auto corner = [](const ScreenVertex& v, glm::vec2 off) {
+                   ScreenVertex c = v;
+                   c.x += off.x;
+                   c.y += off.y;
+                   return c;
+                 };
+                 const ScreenVertex q0 = corner(sa, -e + n), q1 = corner(sa, -e - n);
+                 const ScreenVertex q2 = corner(sb, e - n), q3 = corner(sb, e + n);
+                 ScreenTriangle st;
+                 if (setup(q0, q1, q2, false, w, h, draw_id, st)) out.push_back(st);
+                 if (setup(q0, q2, q3, false, w, h, draw_id, st)) out.push_back(st);
+               }
+             });
+  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
+}
+
+Image Rasterizer::render() const {
+  const int width = options_.width, height = options_.height;
+  const int s = options_.samples_per_axis, spp = s * s;
+  const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+  const auto& tris = impl_->triangles;
+  const auto& draws = impl_->draws;
+
+  // Binning in submission order.
+  std::vector<std::vector<std::uint32_t>> bins(static_cast<std::size_t>(tiles_x) * tiles_y);
+  for (std::uint32_t i = 0; i < tris.size(); ++i) {
+    const ScreenTriangle& t = tris[i];
+    for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
+      for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
+        bins[static_cast<std::size_t>(ty) * tiles_x + tx].push_back(i);
+  }
+
+  // Sample offsets inside a pixel (fixed point), an s x s ordered grid.
+  std::vector<std::int64_t> off_x(spp), off_y(spp);
+  for (int j = 0; j < s; ++j)
+    for (int i = 0; i < s; ++i) {
+      off_x[j * s + i] = ((2 * i + 1) * kSubpixel) / (2 * s);
+      off_y[j * s + i] = ((2 * j + 1) * kSubpixel) / (2 * s);
+    }
+
+  Image out(width, height);
+  const glm::vec4 background = options_.background;
+  parallel_for(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
+    const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
+    const int ty0 = static_cast<int>(tile / tiles_x) * kTile;
+    const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
+    const auto& bin = bins[tile];
+    if (bin.empty()) {
+      for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x) out.at(tx0 + x, ty0 + y) = background;
+      return;
+    }
+    thread_local std::vector<glm::vec4> color;
+    thread_local std::vector<float> depth;
+    thread_local std::vector<std::uint32_t> visible;  // opaque triangle per sample, not shaded yet
+    const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
+    color.assign(samples, background);
+    depth.assign(samples, 1.0f);
+    visible.assign(samples, kNone);
+    bool pending = false;
+
+    // Deferred shading of the opaque samples: each pixel shades each distinct triangle left
+    // visible in it once (at its first sample), so hidden fragments cost no lighting.
+    auto flush = [&] {
+      if (!pending) return;
+      pending = false;
+      std::uint32_t cached_id = kNone;  // neighbouring samples mostly show the same triangle
+      Edges e{};
+      for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x) {
+          const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
+          for (int q = 0; q < spp; ++q) {
+            const std::uint32_t id = visible[base + q];
+            if (id == kNone) continue;
+            const ScreenTriangle& t = tris[id];
+            if (id != cached_id) {
+              e = edges_of(t);
+              cached_id = id;
+            }
+            const std::int64_t X = static_cast<std::int64_t>(tx0 + x) * kSubpixel + off_x[q];
+            const std::int64_t Y = static_cast<std::int64_t>(ty0 + y) * kSubpixel + off_y[q];
+            const glm::vec4 c = shade_at(draws[t.draw], t, e, X, Y);
+            const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+            const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+            for (int q2 = q; q2 < spp; ++q2)
+              if (visible[base + q2] == id) {
+                color[base + q2] = premul;
+                visible[base + q2] = kNone;
+              }
+          }
+        }
+    };
+
+    std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
+    for (std::uint32_t ti : bin) {
+      const ScreenTriangle& t = tris[ti];
+      const DrawState& d = draws[t.draw];
+      const bool test = d.options.depth_test, write = d.options.depth_write;
+      const bool over = d.options.blend == Blend::Over;
+      if (over) flush();  // blending needs the colors underneath
+      const Edges e = edges_of(t);
+      for (int k = 0; k < 3; ++k)
+        for (int q = 0; q < spp; ++q) edge_sample[k * spp + q] = e.A[k] * off_x[q] + e.B[k] * off_y[q];
+      std::int64_t max_offset[3];
+      for (int k = 0; k < 3; ++k)
+        max_offset[k] = *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
+      const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
+      const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
+      if (px0 > px1 || py0 > py1) continue;
+      const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel, step2 = e.A[2] * kSubpixel;
+      for (int py = py0; py <= py1; ++py) {
+        const std::int64_t Y = static_cast<std::int64_t>(py) * kSubpixel;
+        const std::int64_t X0 = static_cast<std::int64_t>(px0) * kSubpixel;
+        // Edge functions at the pixel's corner, stepped along the row (+ bias: top-left rule).
+        std::int64_t e0 = e.A[0] * X0 + e.B[0] * Y + e.C[0] + e.bias[0];
+        std::int64_t e1 = e.A[1] * X0 + e.B[1] * Y + e.C[1] + e.bias[1];
+        std::int64_t e2 = e.A[2] * X0 + e.B[2] * Y + e.C[2] + e.bias[2];
+        // The span of the row where some sample can be inside (conservative by a pixel): each
+        // edge function is linear along the row.
+        int lo = px0, hi = px1;
+        const std::int64_t row_e[3] = {e0, e1, e2}, steps[3] = {step0, step1, step2};
+        for (int k = 0; k < 3; ++k) {
+          const std::int64_t best = row_e[k] + max_offset[k];
+          if (steps[k] == 0) {
+            if (best < 0) hi = lo - 1;
+            continue;
+          }
+          const double x = std::clamp(-static_cast<double>(best) / static_cast<double>(steps[k]), -1e9, 1e9);
+          if (steps[k] > 0) lo = std::max(lo, px0 + static_cast<int>(std::floor(x)));
+          else hi = std::min(hi, px0 + static_cast<int>(std::ceil(x)));
+        }
+        if (lo > hi) continue;
+        e0 += step0 * (lo - px0);
+        e1 += step1 * (lo - px0);
+        e2 += step2 * (lo - px0);
+        for (int px = lo; px <= hi; ++px, e0 += step0, e1 += step1, e2 += step2) {
+          const std::size_t base = (static_cast<std::size_t>(py - ty0) * kTile + (px - tx0)) * spp;
+          unsigned mask = 0;
+          int first = -1;
+          for (int q = 0; q < spp; ++q) {
+            const std::int64_t w0 = e0 + edge_sample[q], w1 = e1 + edge_sample[spp + q],
+                               w2 = e2 + edge_sample[2 * spp + q];
+            if ((w0 | w1 | w2) < 0) continue;
+            const double l0 = static_cast<double>(w0 - e.bias[0]) * e.inv_area;
+            const double l1 = static_cast<double>(w1 - e.bias[1]) * e.inv_area;
+            const double l2 = static_cast<double>(w2 - e.bias[2]) * e.inv_area;
+            const float z = static_cast<float>(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
+            if (test && !(z < depth[base + q])) continue;
+            mask |= 1u << q;
+            if (write) depth[base + q] = z;
+            if (first < 0) first = q;
+          }
+          if (!mask) continue;
+          if (!over) {
+            for (int q = 0; q < spp; ++q)
+              if (mask & (1u << q)) visible[base + q] = ti;
+            pending = true;
+            continue;
+          }
+          const std::int64_t X = static_cast<std::int64_t>(px) * kSubpixel + off_x[first];
+          const std::int64_t Ys = Y + off_y[first];
+          const glm::vec4 c = shade_at(d, t, e, X, Ys);
+          const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+          const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+          for (int q = 0; q < spp; ++q)
+            if (mask & (1u << q)) color[base + q] = premul + (1.0f - alpha) * color[base + q];
+        }
+      }
+    }
+    flush();
+    const float inv_spp = 1.0f / static_cast<float>(spp);
+    for (int y = 0; y < th; ++y)
+      for (int x = 0; x < tw; ++x) {
+        const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
+        glm::vec4 sum(0.0f);
+        for (int q = 0; q < spp; ++q) sum += color[base + q];
+        out.at(tx0 + x, ty0 + y) = sum * inv_spp;
+      }
+  });
+  return out;
+}
+
+}  // namespace cw4d::render

@@ -1,0 +1,106 @@
+// `cw4d render`: every mode writes a PNG of the requested size with something drawn on it, for
+// built-ins and the example scene; bad requests exit with the documented codes and write nothing.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cw4d/render/image.hpp"
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using cw4d::test::Result;
+
+struct TempDir : cw4d::test::TempDir {
+  TempDir() : cw4d::test::TempDir("cw4d_test_render_cli") {}
+};
+
+Result run(const TempDir& dir, const std::vector<std::string>& args) {
+  return cw4d::test::run_program(dir, CW4D_EXE, args);
+}
+
+// Fraction of pixels that differ from the white background.
+double drawn_fraction(const cw4d::render::Image8& img) {
+  std::size_t drawn = 0;
+  for (std::size_t i = 0; i < img.bytes.size(); i += img.channels)
+    if (img.bytes[i] < 250 || img.bytes[i + 1] < 250 || img.bytes[i + 2] < 250) ++drawn;
+  return static_cast<double>(drawn) / (static_cast<double>(img.width) * img.height);
+}
+
+const std::string kScene = std::string(CW4D_SOURCE_DIR) + "/data/example-scene.json";
+
+}  // namespace
+
+TEST_CASE("cw4d render writes each kind of picture", "[render][cli]") {
+  TempDir dir;
+  struct Case {
+    std::vector<std::string> args;
+    int width, height;
+    double min_drawn;
+  };
+  const std::vector<Case> cases = {
+      {{"24-cell", "--normal", "1,1,1,1", "--offset", "0.3", "--edges"}, 200, 150, 0.2},
+      {{"--scene", kScene, "--normal", "0,0,0,1", "--offset", "0.1"}, 200, 150, 0.05},
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--layers", "12"}, 160, 120, 0.1},
+      {{"--scene", kScene, "--mode", "cloud", "--normal", "0,0,0,1", "--layers", "8"}, 160, 120, 0.05},
+      {{"120-cell", "--mode", "wireframe"}, 200, 150, 0.05},
+      {{"5-cell", "--mode", "wireframe", "--no-occlusion", "--eye4", "1,0,0,0"}, 200, 150, 0.01},
+      {{"tesseract", "--mode", "stereographic"}, 200, 150, 0.03},
+      {{"24-cell", "--mode", "stereographic", "--lines", "--rotate", "xw:10"}, 200, 150, 0.01},
+      {{"24-cell", "--mode", "stereo", "--normal", "0,0,0,1"}, 400, 150, 0.1},
+      {{"tesseract", "--mode", "sheet", "--normal", "1,1,0,1", "--layers", "6", "--columns", "3"},
+       3 * 100 + 4 * 4, 2 * 100 + 3 * 4, 0.1},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string out = "pic" + std::to_string(k++) + ".png";
+    std::vector<std::string> args = {"render"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const bool sheet = c.args.size() > 2 && c.args[2] == "sheet";
+    const bool stereo = c.args.size() > 2 && c.args[2] == "stereo";
+    const int w = sheet ? 100 : (stereo ? c.width / 2 : c.width), h = sheet ? 100 : c.height;
+    args.insert(args.end(), {"--size", std::to_string(w) + "x" + std::to_string(h), "--samples", "2",
+                             "-o", out});
+    const Result r = run(dir, args);
+    CAPTURE(c.args, r.err);
+    REQUIRE(r.code == 0);
+    const cw4d::render::Image8 img = cw4d::render::read_png((dir / out).string());
+    CHECK(img.width == c.width);
+    CHECK(img.height == c.height);
+    CHECK(drawn_fraction(img) > c.min_drawn);
+  }
+}
+
+TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
+  TempDir dir;
+  const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1", "--layers",
+                             "5", "--size", "64x48", "-o", "anim/f.png"});
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  for (int i = 0; i < 5; ++i) {
+    const auto p = dir / ("anim/f_000" + std::to_string(i) + ".png");
+    REQUIRE(fs::exists(p));
+    CHECK(cw4d::render::read_png(p.string()).width == 64);
+  }
+  CHECK_FALSE(fs::exists(dir / "anim/f_0005.png"));
+}
+
+TEST_CASE("cw4d render rejects bad requests without writing", "[render][cli]") {
+  TempDir dir;
+  // No --normal for a section, a non-PNG output, a bad size, an unknown mode, a scene for the
+  // stereographic mode, a plane that misses the model.
+  CHECK(run(dir, {"render", "tesseract", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "-o", "a.svg"}).code == 1);
+  CHECK(run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--size", "0x5", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "tesseract", "--mode", "raytrace", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "--scene", kScene, "--mode", "stereographic", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "cube:3", "--normal", "0,0,1", "-o", "a.png"}).code == 1);
+  const Result miss = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", "5", "-o", "a.png"});
+  CHECK(miss.code == 5);
+  CHECK(miss.err.rfind("cw4d: error: ", 0) == 0);
+  CHECK(dir.entries() == 0);
+}
