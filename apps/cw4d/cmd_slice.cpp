@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
 #include "output.hpp"
 
 namespace cw4d::cli {
@@ -15,6 +16,7 @@ struct SliceSettings {
   bool triangulate = false;
   bool no_uvw = false;
   std::string format;  // --format, empty: from the extension
+  std::string method = "cw";  // --method cw | tet
   std::string output;
 };
 
@@ -32,7 +34,19 @@ void run_slice(SliceSettings& s) {
   check_format(out.format, input.dim(),
                p.input_label() + " lives in R^" + std::to_string(input.dim()));
 
-  const Cut cut_result = cut(input, p.plane(s.offset));
+  Cut cut_result;
+  if (s.method == "tet") {
+    // The tetrahedral path: tetrahedralize the model, cut every tetrahedron (the texture
+    // coordinates of that path travel with the tetrahedra, so the file gets none).
+    if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
+    if (input.dim() != 4) throw InputError("--method tet needs a 4D model");
+    const Complex& model = *input.models().front();
+    const TetSection ts = slice_tets(tetrahedralize(model), p.plane(s.offset), p.model_to_world(4));
+    cut_result.section = to_section(ts, model);
+    out.uvw = false;
+  } else {
+    cut_result = cut(input, p.plane(s.offset));
+  }
   const Section& sec = cut_result.section;
   const std::string cut_text = "n=(" + join(p.normal, brief) + "), d=" + brief(s.offset);
   if (sec.empty())
@@ -86,6 +100,10 @@ void add_slice_command(CLI::App& app, Commands& commands) {
       ->type_name("D")
       ->required();
   cmd->add_flag("--triangulate", s->triangulate, "Fan-triangulate the polygons (OBJ only)");
+  cmd->add_option("--method", s->method,
+                  "cw: the layered CW-complex section (polygons); tet: tetrahedralize the model "
+                  "and cut each tetrahedron (triangles, no UVW in the file)")
+      ->check(CLI::IsMember({"cw", "tet"}));
   cmd->add_flag("--no-uvw", s->no_uvw,
                 "Leave out the texture coordinates (OBJ vt, glTF TEXCOORD_0/_UVW)");
   cmd->add_option("--format", s->format,

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   cli::add_slice_command(app, commands);
   cli::add_sweep_command(app, commands);
   cli::add_render_command(app, commands);
+  cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
 
   try {

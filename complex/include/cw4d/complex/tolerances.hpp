@@ -46,4 +46,9 @@ inline constexpr double bounding_sphere_margin_rel = 1e-9;
 /// bends by a sagitta above 1e-4 R.
 inline constexpr double hull_coplanar_rel = 1e-9;
 
+/// Parametric UVW (tetrahedralize/tet_mesh.hpp): an angle about an axis is undefined for a point
+/// within uvw_axis_rel * R of that axis (R: the shape's radius); such a corner takes the mean
+/// angle of the other corners of its tetrahedron. Grid points off the axis are >= R sin(pi/4N).
+inline constexpr double uvw_axis_rel = 1e-9;
+
 }  // namespace cw4d::tol

@@ -1,0 +1,138 @@
+#pragma once
+// Tetrahedral meshes of the 3-cells of a closed 4D complex: what GPU 4D renderers consume, and
+// the second, independent section path (tet_slice.hpp).
+//
+// Every polygonal face of the complex is triangulated once for the whole complex (convex faces
+// fan out from their first vertex in a global vertex order, other faces are ear-clipped), so two
+// cells sharing a face see the same triangles and the mesh is conforming. Convex cells are coned
+// from their first vertex in that order over the triangles of the faces that do not contain it
+// (the faces that contain it are then fanned from that same vertex, so both agree); combinatorial
+// cubes use the 5-tetrahedron split when their face diagonals allow it. The global order puts
+// one colour class of a 2-colouring of the edge graph first when the graph is bipartite, so every
+// square face of the tesseract gets its "even" diagonal: 40 tetrahedra, not 48. Non-convex cells
+// go through TetGen (-pY: no Steiner points on the boundary, so it stays conforming). TetGen runs
+// in a forked child process (Debian's build keeps assert()s that abort on bad input, and it
+// prints): a failure or a crash there becomes a MeshingError here, never an exit.
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cw4d/complex/complex.hpp"
+#include "cw4d/complex/error.hpp"
+
+namespace cw4d {
+
+/// Tetrahedralizing a cell failed (TetGen rejected its boundary: self-intersecting, not closed,
+/// ...). rank() is 3 and ids() the offending cell; tetgen_code() is TetGen's error code (0 when
+/// the failure was detected before calling TetGen).
+class MeshingError : public TopologyError {
+ public:
+  MeshingError(std::uint32_t cell, int tetgen_code, const std::string& message)
+      : TopologyError(3, {cell}, message), tetgen_code_(tetgen_code) {}
+  int tetgen_code() const { return tetgen_code_; }
+
+ private:
+  int tetgen_code_;
+};
+
+/// A tetrahedral mesh of the boundary 3-cells of a 4D complex, with per-corner attributes.
+/// Corner k (0..3) of tetrahedron t is entry 4 t + k of the corner arrays.
+struct TetMesh {
+  /// 4 x V. The first count(0) columns are the model's vertices (same ids); TetGen's interior
+  /// Steiner points of non-convex cells follow.
+  Eigen::Matrix4Xd positions;
+  /// Vertex ids of each tetrahedron, oriented with its cell's outward normal N:
+  /// det(N, p1 - p0, p2 - p0, p3 - p0) > 0 (the Stokes convention of complex.hpp).
+  std::vector<std::array<std::uint32_t, 4>> tets;
+  /// Source 3-cell of each tetrahedron.
+  std::vector<std::uint32_t> tet_cell;
+  /// Outward unit 4D normal of each model cell, 4 x C (copied from the complex).
+  Eigen::Matrix4Xd cell_normals;
+  /// Texture coordinate of each corner, 3 x 4T (see UvwMapping).
+  Eigen::Matrix3Xd corner_uvw;
+
+  std::size_t size() const { return tets.size(); }
+  std::size_t cell_count() const { return static_cast<std::size_t>(cell_normals.cols()); }
+  Eigen::Vector4d corner_position(std::size_t t, int k) const {
+    return positions.col(tets[t][static_cast<std::size_t>(k)]);
+  }
+  Eigen::Vector4d tet_normal(std::size_t t) const { return cell_normals.col(tet_cell[t]); }
+  Eigen::Vector3d corner_uvw_of(std::size_t t, int k) const {
+    return corner_uvw.col(static_cast<Eigen::Index>(4 * t + static_cast<std::size_t>(k)));
+  }
+  /// Unsigned 3-volume of tetrahedron t.
+  double tet_volume(std::size_t t) const;
+  /// det(N, p1 - p0, p2 - p0, p3 - p0) / 6: the volume, positive when oriented outward.
+  double tet_signed_volume(std::size_t t) const;
+};
+
+/// How texture coordinates are assigned to the corners of a cell's tetrahedra.
+struct UvwMapping {
+  enum class Kind {
+    /// The cell's own box mapping: coordinates in an orthonormal frame of the cell's hyperplane
+    /// (hyperplane_basis of its normal), scaled per axis so the cell's bounding box is [0,1]^3;
+    /// the map of section/uvw.hpp (facet_texture_maps), so both section paths agree.
+    CellBox,
+    /// Parameters of a round shape (see parametric_uvw); falls back to CellBox per cell where
+    /// a shape has no parameters (e.g. the flat caps of the spherinder).
+    Glome,
+    Spherinder,
+    Duocylinder,
+  };
+  Kind kind = Kind::CellBox;
+  /// Radius R of the round shape (the R of glome:R,N, spherinder:R,N, duocylinder:R,N).
+  double radius = 1.0;
+};
+
+/// The parametric mapping of a model spec: glome:R,N -> Glome, spherinder:R,N -> Spherinder,
+/// duocylinder:R,N -> Duocylinder (radius R); nothing for other specs.
+std::optional<UvwMapping> uvw_mapping_for_spec(const std::string& spec);
+
+/// Parameters of a round shape at point x of a cell with outward normal n, each in [0, 1]
+/// (angles divided by their period; angular components are unwrapped per tetrahedron by the
+/// caller, so values slightly outside [0,1] occur on seams: sample with "repeat"):
+///  * Glome (Hopf coordinates x = R (cos a cos b, cos a sin b, sin a cos c, sin a sin c)):
+///    (b / 2pi, c / 2pi, a / (pi/2)).
+///  * Spherinder (sphere x sweep [-R, R] in w), side cells: (azimuth / 2pi, polar / pi,
+///    (w / R + 1) / 2).
+///  * Duocylinder, cells on the first circle (normal in the xy plane): (atan2(y, x) / 2pi,
+///    (z / R + 1) / 2, (w / R + 1) / 2); cells on the second circle: (atan2(w, z) / 2pi,
+///    (x / R + 1) / 2, (y / R + 1) / 2).
+/// Returns nothing where the shape has no parameters (spherinder caps). Which components are
+/// periodic is returned in `periodic`.
+std::optional<Eigen::Vector3d> parametric_uvw(const UvwMapping& mapping, const Eigen::Vector4d& x,
+                                              const Eigen::Vector4d& n,
+                                              std::array<bool, 3>& periodic);
+
+struct TetOptions {
+  UvwMapping uvw;
+  /// Split combinatorial cubes into 5 tetrahedra where the face diagonals allow it (else 6).
+  bool five_tet_cubes = true;
+};
+
+/// Per-cell statistics of a tetrahedralization.
+struct TetStats {
+  std::size_t coned_cells = 0;
+  std::size_t cube_split_cells = 0;
+  std::size_t tetgen_cells = 0;
+  std::size_t steiner_points = 0;
+};
+
+/// Tetrahedralizes every 3-cell of a closed 4D complex (ambient dimension 4, with facet
+/// normals). The union of a cell's tetrahedra is the cell; shared faces get the same triangles.
+/// \throw InputError when the complex is not 4D, has no 3-cells or no facet normals.
+/// \throw MeshingError when a non-convex cell cannot be tetrahedralized (TetGen's failure,
+///        never a crash or an exit).
+TetMesh tetrahedralize(const Complex& complex, const TetOptions& options = {},
+                       TetStats* stats = nullptr);
+
+/// The triangles of every face of the complex in the global triangulation tetrahedralize uses:
+/// entry f holds face f's triangles (vertex ids) in the face's orientation.
+std::vector<std::vector<std::array<std::uint32_t, 3>>> triangulate_faces(const Complex& complex);
+
+}  // namespace cw4d

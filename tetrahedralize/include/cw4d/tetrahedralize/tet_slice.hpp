@@ -1,0 +1,78 @@
+#pragma once
+// The tetrahedral slicer: each tetrahedron of a TetMesh cut by a hyperplane gives nothing, a
+// triangle or a quad (two triangles), looked up in a 16-case sign table, with the corners'
+// 4D normals and UVW interpolated along the cut edges. The CPU twin of a GPU slicing shader and
+// the second, independent section path beside cw4d::section.
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+
+namespace cw4d {
+
+/// Where a corner of a slice triangle comes from: a crossing of mesh edge (a, b) at parameter t
+/// (position (1 - t) p_a + t p_b, a < b), or mesh vertex a itself (a == b, t = 0) when it lies on
+/// the plane.
+struct TetCutPoint {
+  std::uint32_t a = 0, b = 0;
+  double t = 0.0;
+  friend bool operator==(const TetCutPoint& x, const TetCutPoint& y) {
+    return x.a == y.a && x.b == y.b;
+  }
+};
+
+/// A triangle soup: corner k of triangle i is column / entry 3 i + k. Triangles are oriented
+/// outward (counter-clockwise seen from outside the section solid, in frame coordinates): the
+/// table gives the corners in cycle order, and each polygon is turned so that its normal points
+/// along its cell's outward normal projected into the plane.
+struct TetSection {
+  HyperplaneFrame frame;
+  Eigen::Matrix3Xd positions;  ///< 3 x 3T, section coordinates (frame.basis)
+  Eigen::Matrix3Xd normals;  ///< 3 x 3T, the interpolated 4D normal projected into the plane, unit
+  Eigen::Matrix3Xd uvw;      ///< 3 x 3T, interpolated texture coordinates
+  std::vector<TetCutPoint> corners;  ///< 3T
+  std::vector<std::uint32_t> tet;    ///< T: source tetrahedron
+  std::vector<std::uint32_t> cell;   ///< T: source 3-cell of the model
+
+  std::size_t triangle_count() const { return tet.size(); }
+  bool empty() const { return tet.empty(); }
+  /// Volume enclosed by the triangles (divergence theorem; positive for an outward surface).
+  double volume() const;
+  /// Total triangle area.
+  double area() const;
+};
+
+/// The 16-case table: for the sign mask m (bit k set when corner k is on the positive side),
+/// kTetCutTable[m] lists the cut edges (corner pairs) in cycle order; 0, 3 or 4 entries.
+struct TetCutCase {
+  int count;
+  std::array<std::array<int, 2>, 4> edges;
+};
+extern const std::array<TetCutCase, 16> kTetCutTable;
+
+/// Cuts the mesh, placed by x_world = model_to_world(x_model), with a world-space hyperplane.
+/// Sides are decided by classify_side with the tolerance cw4d::section uses; on-plane vertices
+/// count as positive, and when that leaves nothing, as negative (a plane containing a facet
+/// returns that facet), exactly like cw4d::section. Degenerate triangles (two corners from the
+/// same on-plane vertex) are dropped.
+/// \throw InputError when the plane or transform is not 4D.
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane,
+                      const AffineTransform& model_to_world);
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane);
+
+/// The slice as a Section of `model` (the complex the mesh was made from): a 3D complex of the
+/// triangles with welded vertices, source cells in source[2], facet normals (the projected cell
+/// normals), so every section writer can write it. vertex_source: rank 0 for a model vertex (or
+/// a Steiner point id >= model.count(0)); rank 1 with the model edge and its t for crossings of
+/// model edges, and element EdgeId::invalid_value (t along the tetrahedron edge) for crossings of
+/// the diagonals the tetrahedralization added: consumers that look up model edges must skip
+/// those (section_uvw cannot be used on it; the slice carries its own uvw).
+Section to_section(const TetSection& slice, const Complex& model);
+
+}  // namespace cw4d

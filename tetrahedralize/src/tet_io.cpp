@@ -1,0 +1,286 @@
+#include "cw4d/tetrahedralize/tet_io.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <vector>
+
+#include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/error.hpp"
+
+namespace cw4d {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the binary writers assume little endian");
+
+std::string base64(const std::string& bytes) {
+  static constexpr char table[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const std::uint32_t v = (static_cast<std::uint8_t>(bytes[i]) << 16) |
+                            (static_cast<std::uint8_t>(bytes[i + 1]) << 8) |
+                            static_cast<std::uint8_t>(bytes[i + 2]);
+    out += table[(v >> 18) & 63];
+    out += table[(v >> 12) & 63];
+    out += table[(v >> 6) & 63];
+    out += table[v & 63];
+  }
+  const std::size_t rest = bytes.size() - i;
+  if (rest > 0) {
+    std::uint32_t v = static_cast<std::uint8_t>(bytes[i]) << 16;
+    if (rest == 2) v |= static_cast<std::uint8_t>(bytes[i + 1]) << 8;
+    out += table[(v >> 18) & 63];
+    out += table[(v >> 12) & 63];
+    out += rest == 2 ? table[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+template <class T>
+void append_raw(std::string& s, T x) {
+  char b[sizeof(T)];
+  std::memcpy(b, &x, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+// One DataArray of a .vtu file. `values` are written with the given VTK type.
+template <class T>
+void data_array(std::ostringstream& o, const char* type, const char* name, int components,
+                const std::vector<T>& values, VtuEncoding enc) {
+  o << "        <DataArray type=\"" << type << "\"";
+  if (name) o << " Name=\"" << name << "\"";
+  if (components > 1) o << " NumberOfComponents=\"" << components << "\"";
+  if (enc == VtuEncoding::Ascii) {
+    o << " format=\"ascii\">\n          ";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      o << values[i] << ((i + 1) % 12 == 0 && i + 1 < values.size() ? "\n          " : " ");
+    }
+    o << "\n        </DataArray>\n";
+  } else {
+    std::string raw;
+    raw.reserve(values.size() * sizeof(T));
+    for (const T& v : values) append_raw(raw, v);
+    std::string head;
+    append_raw(head, static_cast<std::uint64_t>(raw.size()));
+    // VTK decodes the header and the data as separately padded base64 blocks.
+    o << " format=\"binary\">\n          " << base64(head) << base64(raw)
+      << "\n        </DataArray>\n";
+  }
+}
+
+std::string lower_ext(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+std::string with_ext(const std::string& path, const std::string& ext) {
+  return std::filesystem::path(path).replace_extension(ext).string();
+}
+
+// Writes two files: the first, then the second; removes the first when the second fails.
+void write_pair(const std::string& first, const std::string& first_text, const std::string& second,
+                const std::string& second_text) {
+  write_file_atomically(first, first_text);
+  try {
+    write_file_atomically(second, second_text);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(first, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
+std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
+  const std::size_t nt = mesh.size();
+  std::vector<double> points, pos4, nrm4, uvw;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+  std::vector<std::int32_t> cells;
+  points.reserve(12 * nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Eigen::Vector4d n = mesh.tet_normal(t);
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector4d x = mesh.corner_position(t, k);
+      const Eigen::Vector3d u = mesh.corner_uvw_of(t, k);
+      for (int i = 0; i < 3; ++i) points.push_back(x(i));
+      for (int i = 0; i < 4; ++i) pos4.push_back(x(i));
+      for (int i = 0; i < 4; ++i) nrm4.push_back(n(i));
+      for (int i = 0; i < 3; ++i) uvw.push_back(u(i));
+      connectivity.push_back(static_cast<std::int64_t>(4 * t + static_cast<std::size_t>(k)));
+    }
+    offsets.push_back(static_cast<std::int64_t>(4 * (t + 1)));
+    types.push_back(10);  // VTK_TETRA
+    cells.push_back(static_cast<std::int32_t>(mesh.tet_cell[t]));
+  }
+  std::ostringstream o;
+  o << std::setprecision(17);
+  o << "<?xml version=\"1.0\"?>\n"
+    << "<!-- cw4d tetrahedral mesh: 4 unshared corners per tetrahedron; point data position4, "
+       "normal4 (outward 4D normal of the source cell), uvw; cell data cell (source 3-cell) -->\n"
+    << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\""
+    << (enc == VtuEncoding::Base64 ? " header_type=\"UInt64\"" : "") << ">\n"
+    << "  <UnstructuredGrid>\n"
+    << "    <Piece NumberOfPoints=\"" << 4 * nt << "\" NumberOfCells=\"" << nt << "\">\n"
+    << "      <PointData Scalars=\"\" Vectors=\"\">\n";
+  data_array(o, "Float64", "position4", 4, pos4, enc);
+  data_array(o, "Float64", "normal4", 4, nrm4, enc);
+  data_array(o, "Float64", "uvw", 3, uvw, enc);
+  o << "      </PointData>\n      <CellData>\n";
+  data_array(o, "Int32", "cell", 1, cells, enc);
+  o << "      </CellData>\n      <Points>\n";
+  data_array(o, "Float64", "Points", 3, points, enc);
+  o << "      </Points>\n      <Cells>\n";
+  data_array(o, "Int64", "connectivity", 1, connectivity, enc);
+  data_array(o, "Int64", "offsets", 1, offsets, enc);
+  if (enc == VtuEncoding::Ascii) {
+    std::vector<int> t(types.begin(), types.end());  // print numbers, not characters
+    data_array(o, "UInt8", "types", 1, t, enc);
+  } else {
+    data_array(o, "UInt8", "types", 1, types, enc);
+  }
+  o << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  return o.str();
+}
+
+std::string tetgen_node_text(const TetMesh& mesh) {
+  std::ostringstream o;
+  o << std::setprecision(17);
+  o << "# cw4d: vertices x y z, attribute w\n" << mesh.positions.cols() << " 3 1 0\n";
+  for (Eigen::Index v = 0; v < mesh.positions.cols(); ++v) {
+    const auto x = mesh.positions.col(v);
+    o << v << ' ' << x(0) << ' ' << x(1) << ' ' << x(2) << ' ' << x(3) << '\n';
+  }
+  return o.str();
+}
+
+std::string tetgen_ele_text(const TetMesh& mesh) {
+  std::ostringstream o;
+  o << "# cw4d: tetrahedra (outward oriented in 4D), attribute: source cell\n"
+    << mesh.size() << " 4 1\n";
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    const auto& v = mesh.tets[t];
+    o << t << ' ' << v[0] << ' ' << v[1] << ' ' << v[2] << ' ' << v[3] << ' ' << mesh.tet_cell[t]
+      << '\n';
+  }
+  return o.str();
+}
+
+std::string fourdo_text(const TetMesh& mesh) {
+  std::ostringstream o;
+  o << std::setprecision(17);
+  o << "4DO 1\n# cw4d tetrahedral mesh: " << mesh.positions.cols() << " vertices, " << mesh.size()
+    << " tetrahedra, " << mesh.cell_count() << " cells\n";
+  for (Eigen::Index v = 0; v < mesh.positions.cols(); ++v) {
+    const auto x = mesh.positions.col(v);
+    o << "v " << x(0) << ' ' << x(1) << ' ' << x(2) << ' ' << x(3) << '\n';
+  }
+  for (Eigen::Index c = 0; c < mesh.cell_normals.cols(); ++c) {
+    const auto n = mesh.cell_normals.col(c);
+    o << "vn " << n(0) << ' ' << n(1) << ' ' << n(2) << ' ' << n(3) << '\n';
+  }
+  for (Eigen::Index i = 0; i < mesh.corner_uvw.cols(); ++i) {
+    const auto u = mesh.corner_uvw.col(i);
+    o << "vt " << u(0) << ' ' << u(1) << ' ' << u(2) << '\n';
+  }
+  o << "tformat v/vn/vt\n";
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    o << 't';
+    for (std::size_t k = 0; k < 4; ++k)
+      o << ' ' << mesh.tets[t][k] << '/' << mesh.tet_cell[t] << '/' << 4 * t + k;
+    o << '\n';
+  }
+  // Compound cells: the tetrahedra of each source cell (stored contiguously per cell).
+  std::size_t t0 = 0;
+  while (t0 < mesh.size()) {
+    std::size_t t1 = t0;
+    o << 'c';
+    while (t1 < mesh.size() && mesh.tet_cell[t1] == mesh.tet_cell[t0]) o << ' ' << t1++;
+    o << '\n';
+    t0 = t1;
+  }
+  return o.str();
+}
+
+std::string gpu_buffer_bytes(const TetMesh& mesh) {
+  std::string out;
+  out.reserve(192 * mesh.size());
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    const Eigen::Vector4d n = mesh.tet_normal(t);
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector4d x = mesh.corner_position(t, k);
+      const Eigen::Vector3d u = mesh.corner_uvw_of(t, k);
+      for (int i = 0; i < 4; ++i) append_raw(out, static_cast<float>(x(i)));
+      for (int i = 0; i < 4; ++i) append_raw(out, static_cast<float>(n(i)));
+      for (int i = 0; i < 3; ++i) append_raw(out, static_cast<float>(u(i)));
+      append_raw(out, static_cast<float>(mesh.tet_cell[t]));
+    }
+  }
+  return out;
+}
+
+std::string gpu_buffer_header(const TetMesh& mesh, const std::string& bin_name) {
+  std::string escaped;
+  for (char c : bin_name) {
+    if (c == '"' || c == '\\') escaped += '\\';
+    escaped += c;
+  }
+  std::ostringstream o;
+  o << "{\n"
+    << "  \"format\": \"cw4d-tet-gpu\",\n"
+    << "  \"version\": 1,\n"
+    << "  \"buffer\": \"" << escaped << "\",\n"
+    << "  \"byte_order\": \"little\",\n"
+    << "  \"tetrahedra\": " << mesh.size() << ",\n"
+    << "  \"corners_per_tetrahedron\": 4,\n"
+    << "  \"stride_bytes\": 48,\n"
+    << "  \"byte_length\": " << 192 * mesh.size() << ",\n"
+    << "  \"cells\": " << mesh.cell_count() << ",\n"
+    << "  \"attributes\": [\n"
+    << "    {\"name\": \"position\", \"type\": \"float32\", \"components\": 4, \"offset\": 0},\n"
+    << "    {\"name\": \"normal\", \"type\": \"float32\", \"components\": 4, \"offset\": 16},\n"
+    << "    {\"name\": \"uvw\", \"type\": \"float32\", \"components\": 4, \"offset\": 32, "
+       "\"note\": \"u, v, w, source cell id\"}\n"
+    << "  ]\n"
+    << "}\n";
+  return o.str();
+}
+
+bool is_tet_mesh_path(const std::string& path) {
+  const std::string e = lower_ext(path);
+  return e == ".vtu" || e == ".node" || e == ".ele" || e == ".4do" || e == ".bin" || e == ".json";
+}
+
+void write_tet_mesh(const std::string& path, const TetMesh& mesh, bool binary) {
+  const std::string e = lower_ext(path);
+  if (e == ".vtu") {
+    write_file_atomically(path, vtu_text(mesh, binary ? VtuEncoding::Base64 : VtuEncoding::Ascii));
+  } else if (e == ".node" || e == ".ele") {
+    write_pair(with_ext(path, ".node"), tetgen_node_text(mesh), with_ext(path, ".ele"),
+               tetgen_ele_text(mesh));
+  } else if (e == ".4do") {
+    write_file_atomically(path, fourdo_text(mesh));
+  } else if (e == ".bin" || e == ".json") {
+    const std::string bin = with_ext(path, ".bin");
+    write_pair(bin, gpu_buffer_bytes(mesh), with_ext(path, ".json"),
+               gpu_buffer_header(mesh, std::filesystem::path(bin).filename().string()));
+  } else {
+    throw InputError("cannot write a tetrahedral mesh as '" + path +
+                     "': use .vtu, .node/.ele, .4do or .bin/.json");
+  }
+}
+
+}  // namespace cw4d

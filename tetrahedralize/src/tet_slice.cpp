@@ -1,0 +1,303 @@
+#include "cw4d/tetrahedralize/tet_slice.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "cw4d/complex/builder.hpp"
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/tolerances.hpp"
+
+namespace cw4d {
+
+namespace {
+
+constexpr TetCutCase make_case(int mask) {
+  TetCutCase c{0, {}};
+  int pos[4] = {}, neg[4] = {};
+  int np = 0, nn = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (mask & (1 << k))
+      pos[np++] = k;
+    else
+      neg[nn++] = k;
+  }
+  if (np == 1 || nn == 1) {
+    const int lone = np == 1 ? pos[0] : neg[0];
+    const int* others = np == 1 ? neg : pos;
+    c.count = 3;
+    for (int i = 0; i < 3; ++i) c.edges[static_cast<std::size_t>(i)] = {lone, others[i]};
+  } else if (np == 2) {
+    // Around the quad: each corner shares one end with the next.
+    c.count = 4;
+    c.edges[0] = {pos[0], neg[0]};
+    c.edges[1] = {pos[0], neg[1]};
+    c.edges[2] = {pos[1], neg[1]};
+    c.edges[3] = {pos[1], neg[0]};
+  }
+  return c;
+}
+
+constexpr std::array<TetCutCase, 16> make_table() {
+  std::array<TetCutCase, 16> t{};
+  for (int m = 0; m < 16; ++m) t[static_cast<std::size_t>(m)] = make_case(m);
+  return t;
+}
+
+}  // namespace
+
+const std::array<TetCutCase, 16> kTetCutTable = make_table();
+
+double TetSection::volume() const {
+  double v = 0.0;
+  for (std::size_t i = 0; i < triangle_count(); ++i) {
+    const auto c = static_cast<Eigen::Index>(3 * i);
+    v += positions.col(c).dot(positions.col(c + 1).cross(positions.col(c + 2)));
+  }
+  return v / 6.0;
+}
+
+double TetSection::area() const {
+  double a = 0.0;
+  for (std::size_t i = 0; i < triangle_count(); ++i) {
+    const auto c = static_cast<Eigen::Index>(3 * i);
+    a += (positions.col(c + 1) - positions.col(c))
+             .cross(positions.col(c + 2) - positions.col(c))
+             .norm();
+  }
+  return a / 2.0;
+}
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
+  return slice_tets(mesh, plane, AffineTransform::identity(4));
+}
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+  if (plane.dim() != 4)
+    throw InputError("slice_tets: hyperplane in R^" + std::to_string(plane.dim()) + ", not R^4");
+  if (xf.dim() != 4)
+    throw InputError("slice_tets: transform of R^" + std::to_string(xf.dim()) + ", not R^4");
+  TetSection out;
+  out.frame = HyperplaneFrame(plane);
+  // The plane in model space: (A^T n).x = d - n.t (as cw4d::section does).
+  const Eigen::Vector4d nm = xf.linear().transpose() * plane.normal;
+  const double dm = plane.offset - plane.normal.dot(xf.translation());
+  const auto& p = mesh.positions;
+  const auto nv = static_cast<std::size_t>(p.cols());
+  std::vector<double> s(nv);
+  double max_norm2 = 0.0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto x = p.col(static_cast<Eigen::Index>(v));
+    s[v] = nm.dot(x) - dm;
+    max_norm2 = std::max(max_norm2, x.squaredNorm());
+  }
+  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
+  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+  std::vector<Side> side(nv);
+  bool any_neg = false, any_pos = false, any_on = false;
+  for (std::size_t v = 0; v < nv; ++v) {
+    side[v] = classify_side(s[v], tolerance);
+    any_neg |= side[v] == Side::Negative;
+    any_pos |= side[v] == Side::Positive;
+    any_on |= side[v] == Side::On;
+  }
+  if (!any_pos && !any_neg) return out;  // everything on the plane: a flat model
+
+  // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
+  const Eigen::Matrix4d lin = xf.linear();
+  const Eigen::Matrix4d normal_map = lin.inverse().transpose();
+  const Eigen::MatrixXd& basis = out.frame.basis;
+  const Eigen::Matrix<double, 3, 4> bt = basis.transpose();
+  const Eigen::Vector3d offset = bt * (xf.translation() - out.frame.origin());
+
+  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf;
+  std::vector<TetCutPoint> cut_buf;
+  std::vector<Eigen::Vector3d> all_pos, all_nrm, all_uvw;
+  // One pass of the cut; on-plane vertices count as positive or negative.
+  auto run = [&](bool on_is_positive) {
+    for (std::size_t t = 0; t < mesh.size(); ++t) {
+      const auto& tv = mesh.tets[t];
+      int mask = 0;
+      for (int k = 0; k < 4; ++k) {
+        const Side sd = side[tv[static_cast<std::size_t>(k)]];
+        if (sd == Side::Positive || (sd == Side::On && on_is_positive)) mask |= 1 << k;
+      }
+      const TetCutCase& cc = kTetCutTable[static_cast<std::size_t>(mask)];
+      if (cc.count == 0) continue;
+      const Eigen::Vector4d n4 = normal_map * mesh.tet_normal(t);
+      const Eigen::Vector3d n3 = (bt * n4).normalized();
+      pos_buf.clear();
+      nrm_buf.clear();
+      uvw_buf.clear();
+      cut_buf.clear();
+      for (int e = 0; e < cc.count; ++e) {
+        int ka = cc.edges[static_cast<std::size_t>(e)][0],
+            kb = cc.edges[static_cast<std::size_t>(e)][1];
+        std::uint32_t a = tv[static_cast<std::size_t>(ka)], b = tv[static_cast<std::size_t>(kb)];
+        if (a > b) {
+          std::swap(a, b);
+          std::swap(ka, kb);
+        }
+        TetCutPoint cp;
+        if (side[a] == Side::On) {
+          cp = {a, a, 0.0};
+        } else if (side[b] == Side::On) {
+          cp = {b, b, 0.0};
+        } else {
+          cp = {a, b, s[a] / (s[a] - s[b])};
+        }
+        const double w = cp.a == cp.b ? (cp.a == a ? 0.0 : 1.0) : cp.t;
+        const Eigen::Vector4d x = (1.0 - w) * p.col(a) + w * p.col(b);
+        pos_buf.push_back(bt * (lin * x) + offset);
+        uvw_buf.push_back((1.0 - w) * mesh.corner_uvw_of(t, ka) + w * mesh.corner_uvw_of(t, kb));
+        nrm_buf.push_back(n3);  // both corners carry the cell's normal
+        cut_buf.push_back(cp);
+      }
+      // Orientation: the polygon's normal must point along the projected outward normal.
+      const Eigen::Vector3d m =
+          (pos_buf[1] - pos_buf[0]).cross(pos_buf[2] - pos_buf[0]) +
+          (cc.count == 4 ? (pos_buf[2] - pos_buf[0]).cross(pos_buf[3] - pos_buf[0])
+                         : Eigen::Vector3d::Zero());
+      const bool reverse = m.dot(n3) < 0.0;
+      auto emit = [&](int i0, int i1, int i2) {
+        std::array<int, 3> c{i0, i1, i2};
+        if (reverse) std::swap(c[1], c[2]);
+        if (cut_buf[static_cast<std::size_t>(c[0])] == cut_buf[static_cast<std::size_t>(c[1])] ||
+            cut_buf[static_cast<std::size_t>(c[1])] == cut_buf[static_cast<std::size_t>(c[2])] ||
+            cut_buf[static_cast<std::size_t>(c[0])] == cut_buf[static_cast<std::size_t>(c[2])])
+          return;  // two corners at the same on-plane vertex: no area
+        for (int k = 0; k < 3; ++k) {
+          const auto i = static_cast<std::size_t>(c[static_cast<std::size_t>(k)]);
+          all_pos.push_back(pos_buf[i]);
+          all_nrm.push_back(nrm_buf[i]);
+          all_uvw.push_back(uvw_buf[i]);
+          out.corners.push_back(cut_buf[i]);
+        }
+        out.tet.push_back(static_cast<std::uint32_t>(t));
+        out.cell.push_back(mesh.tet_cell[t]);
+      };
+      emit(0, 1, 2);
+      if (cc.count == 4) emit(0, 2, 3);
+    }
+    // A tetrahedron face lying in the plane between two tetrahedra on the same side is emitted by
+    // both, with opposite orientations: the pieces cancel as chains (as in cw4d::section).
+    std::map<std::array<std::uint32_t, 3>, std::vector<std::size_t>> flat;
+    for (std::size_t i = 0; i < out.tet.size(); ++i) {
+      std::array<std::uint32_t, 3> key{};
+      bool on_plane = true;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const TetCutPoint& cp = out.corners[3 * i + k];
+        on_plane &= cp.a == cp.b;
+        key[k] = cp.a;
+      }
+      if (!on_plane) continue;
+      std::sort(key.begin(), key.end());
+      flat[key].push_back(i);
+    }
+    std::vector<char> keep(out.tet.size(), 1);
+    for (const auto& [key, list] : flat)
+      if (list.size() == 2)
+        for (auto i : list) keep[i] = 0;
+    if (std::find(keep.begin(), keep.end(), 0) != keep.end()) {
+      std::size_t w = 0;
+      for (std::size_t i = 0; i < out.tet.size(); ++i) {
+        if (!keep[i]) continue;
+        for (std::size_t k = 0; k < 3; ++k) {
+          all_pos[3 * w + k] = all_pos[3 * i + k];
+          all_nrm[3 * w + k] = all_nrm[3 * i + k];
+          all_uvw[3 * w + k] = all_uvw[3 * i + k];
+          out.corners[3 * w + k] = out.corners[3 * i + k];
+        }
+        out.tet[w] = out.tet[i];
+        out.cell[w] = out.cell[i];
+        ++w;
+      }
+      out.tet.resize(w);
+      out.cell.resize(w);
+      out.corners.resize(3 * w);
+      all_pos.resize(3 * w);
+      all_nrm.resize(3 * w);
+      all_uvw.resize(3 * w);
+    }
+  };
+  // On counts as positive; when that leaves nothing (the plane touches the model from below),
+  // as negative, so that a facet lying in the plane is returned (as cw4d::section does).
+  run(true);
+  if (out.tet.empty() && any_on) run(false);
+  const auto n = static_cast<Eigen::Index>(all_pos.size());
+  out.positions.resize(3, n);
+  out.normals.resize(3, n);
+  out.uvw.resize(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto j = static_cast<std::size_t>(i);
+    out.positions.col(i) = all_pos[j];
+    out.normals.col(i) = all_nrm[j];
+    out.uvw.col(i) = all_uvw[j];
+  }
+  return out;
+}
+
+Section to_section(const TetSection& slice, const Complex& model) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> model_edge;
+  for (std::uint32_t e = 0; e < model.count(1); ++e) {
+    const auto ends = model.edge(e);
+    model_edge.emplace(std::minmax(ends[0], ends[1]), e);
+  }
+  Section sec;
+  sec.frame = slice.frame;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> index;
+  ComplexSoup soup;
+  soup.ambient_dim = 3;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::uint32_t> face_cell;
+  for (std::size_t i = 0; i < slice.triangle_count(); ++i) {
+    std::vector<std::uint32_t> f;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t c = 3 * i + static_cast<std::size_t>(k);
+      const auto& cp = slice.corners[c];
+      auto [it, fresh] =
+          index.emplace(std::make_pair(cp.a, cp.b), static_cast<std::uint32_t>(pts.size()));
+      if (fresh) {
+        pts.push_back(slice.positions.col(static_cast<Eigen::Index>(c)));
+        VertexSource vs;
+        if (cp.a == cp.b) {
+          vs.rank = 0;
+          vs.element = cp.a;
+        } else {
+          vs.rank = 1;
+          const auto it_edge = model_edge.find({cp.a, cp.b});
+          if (it_edge == model_edge.end()) {
+            vs.element = EdgeId::invalid_value;  // a diagonal of the tetrahedralization
+            vs.t = cp.t;
+          } else {
+            vs.element = it_edge->second;
+            vs.t = model.edge(vs.element)[0] == cp.a ? cp.t : 1.0 - cp.t;
+          }
+        }
+        sec.vertex_source.push_back(vs);
+      }
+      f.push_back(it->second);
+    }
+    soup.faces.push_back(f);
+    face_cell.push_back(slice.cell[i]);
+  }
+  soup.positions.resize(3, static_cast<Eigen::Index>(pts.size()));
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    soup.positions.col(static_cast<Eigen::Index>(i)) = pts[i];
+  BuildOptions opt;
+  opt.orient = false;  // the triangles are oriented outward already
+  sec.complex = build_complex(soup, opt);
+  Eigen::MatrixXd normals(3, static_cast<Eigen::Index>(slice.triangle_count()));
+  for (std::size_t i = 0; i < slice.triangle_count(); ++i)
+    normals.col(static_cast<Eigen::Index>(i)) = slice.normals.col(static_cast<Eigen::Index>(3 * i));
+  sec.complex.set_facet_normals(std::move(normals));
+  sec.source.assign(3, {});
+  sec.source[1].assign(sec.complex.count(1), 0);  // edges have no single source here
+  sec.source[2] = std::move(face_cell);
+  return sec;
+}
+
+}  // namespace cw4d
