@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # cw4d setup: installs the Debian packages the build needs, builds Release into build/, then
 #   ./setup.sh        runs the main job (a tesseract section written to out/section.obj)
-#   ./setup.sh test   runs the test suite (ctest) and exits with its status
+#   ./setup.sh test   runs the test suite (ctest), then again under ASan+UBSan in build-asan/,
+#                     then each libFuzzer target for 60 s (build-fuzz/), and exits with the status
 # Safe to run again: only missing packages are installed and the build is incremental.
 # Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build).
 set -euo pipefail
@@ -107,6 +108,64 @@ configure_and_build() {
   cmake --build "$BUILD_DIR" -j "$JOBS" >&2
 }
 
+# --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
+# CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 60 s per
+# target). Build directories: build-asan/ and build-fuzz/ (CW4D_ASAN_DIR, CW4D_FUZZ_DIR).
+SANITIZE_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+
+discard_stale_cache() {  # DIR [COMPILER]: drop a CMake cache made elsewhere or with another compiler
+  local cache="$1/CMakeCache.txt" gen home cxx
+  [[ -f "$cache" ]] || return 0
+  gen="$(sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$cache")"
+  home="$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache")"
+  cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$cache")"
+  if [[ "$gen" != "Ninja" || ( "$home" != "$PWD" && "$home" != "$PWD/fuzz" ) ||
+        ( -n "${2:-}" && "$cxx" != *"$2" ) ]]; then
+    log "discarding stale CMake cache in $1/"
+    rm -rf "$cache" "$1/CMakeFiles"
+  fi
+}
+
+run_sanitizer_suite() {
+  local dir="${CW4D_ASAN_DIR:-build-asan}" status=0
+  discard_stale_cache "$dir"
+  log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build in $dir/"
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCW4D_BUILD_BENCH=OFF \
+    "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" \
+    "-DCMAKE_EXE_LINKER_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_SHARED_LINKER_FLAGS=$SANITIZE_FLAGS" >&2 ||
+    return 1
+  cmake --build "$dir" -j "$JOBS" >&2 || return 1
+  # The degeneracy stress test runs 5% of its planes here (each section costs ~10x under ASan);
+  # the normal suite above runs all of them.
+  log "testing under ASan+UBSan"
+  ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
+    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" CW4D_STRESS_FRACTION=0.05 \
+    ctest --test-dir "$dir" --output-on-failure -j "$JOBS" || status=$?
+  if ((status == 0)); then log "sanitizer tests passed"; else log "sanitizer tests FAILED (ctest exit $status)"; fi
+  return "$status"
+}
+
+run_fuzz_smoke() {
+  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-60}" target work
+  [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "CW4D_FUZZ_SECONDS must be a positive integer, got '$seconds'"
+  discard_stale_cache "$dir" clang++
+  log "configuring the libFuzzer targets (clang) in $dir/"
+  cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ >&2 ||
+    return 1
+  cmake --build "$dir" -j "$JOBS" >&2 || return 1
+  for target in off scene spec; do
+    # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
+    work="$dir/corpus-$target"
+    mkdir -p "$work"
+    log "fuzzing $target for ${seconds}s"
+    "$dir/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="$dir/crash-$target-" "$work" "fuzz/corpus/$target" \
+      2>"$dir/fuzz_$target.log" || { tail -n 40 "$dir/fuzz_$target.log" >&2; return 1; }
+    grep -E '^stat::number_of_executed_units' "$dir/fuzz_$target.log" | sed "s/^/cw4d: fuzz_$target /" >&2
+  done
+  log "fuzz runs clean"
+}
+
 # --- (b') test mode only: readers the tests open exported files with ----------------------------
 # The Khronos glTF-Validator from the npm registry, pinned by tests/tools/package-lock.json and
 # installed into tests/tools/node_modules/ (ignored by git), shared by every build directory.
@@ -131,6 +190,12 @@ if [[ "$MODE" == test ]]; then
   status=0
   ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || status=$?
   if ((status == 0)); then log "tests passed"; else log "tests FAILED (ctest exit $status)"; fi
+  if ((status == 0)) && [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then
+    run_sanitizer_suite || status=$?
+  fi
+  if ((status == 0)) && [[ "${CW4D_FUZZ_SECONDS:-60}" != 0 ]]; then
+    run_fuzz_smoke || status=$?
+  fi
   exit "$status"
 fi
 

@@ -289,9 +289,20 @@ TEST_CASE("glTF: the tesseract cut at w = d is the cube [-1,1]^3 with its cells 
         CHECK((corner || at_height > 0));
       }
       CHECK(at_height >= 1);
+      // glTF's image origin is top-left: TEXCOORD_0 = (u, 1 - v) shows an image as OBJ's vt.
       CHECK(uv(0, v) == uvw(0, v));
-      CHECK(uv(1, v) == uvw(1, v));
+      CHECK_THAT(uv(1, v), WithinAbs(1.0 - uvw(1, v), 1e-6));
     }
+    // Inside one cell the box map of a cube of side 2 is an isometry scaled by 1/2: UVW
+    // distances are half the 4D distances of the points (p, d).
+    for (std::size_t a = 0; a < s.p.size(); ++a)
+      for (std::size_t b = a + 1; b < s.p.size(); ++b) {
+        if (cell(0, a) != cell(0, b)) continue;
+        Eigen::VectorXd xa(4), xb(4);
+        xa << s.p[a], d;
+        xb << s.p[b], d;
+        CHECK_THAT((uvw.col(a) - uvw.col(b)).norm(), WithinAbs(0.5 * (xa - xb).norm(), 1e-6));
+      }
     CHECK(prim.attributes.count("COLOR_0") == 0);  // a single model has no colors
   }
 }
@@ -324,7 +335,7 @@ TEST_CASE("glTF: random sections keep the oracle's volume and a closed surface p
 TEST_CASE("glTF: a scene gives one node per object it meets, with its colors and opacity",
           "[export][gltf]") {
   std::istringstream json(R"({"objects": [
-      {"model": "tesseract", "name": "red", "color": [1, 0, 0], "translate": [-3, 0, 0, 0],
+      {"model": "tesseract", "name": "red", "color": [1, 0.5, 0], "translate": [-3, 0, 0, 0],
        "cell_colors": {"0": [0, 0, 1]}},
       {"model": "tesseract", "name": "glass", "color": [0, 1, 0], "opacity": 0.25,
        "translate": [3, 0, 0, 0]},
@@ -352,10 +363,11 @@ TEST_CASE("glTF: a scene gives one node per object it meets, with its colors and
     const Eigen::MatrixXd color = read_floats(m, prim.attributes.at("COLOR_0"));
     const Eigen::MatrixXd cell = read_floats(m, prim.attributes.at("_CELL_ID"));
     for (Eigen::Index v = 0; v < color.cols(); ++v) {
+      // COLOR_0 is linear: sRGB 0.5 is ((0.5 + 0.055) / 1.055)^2.4 = 0.21404 (IEC 61966-2-1).
       const Eigen::Vector4d expected = k == 1               ? Eigen::Vector4d(0, 1, 0, 0.25)
                                        : cell(0, v) == 0.0 ? Eigen::Vector4d(0, 0, 1, 1)
-                                                           : Eigen::Vector4d(1, 0, 0, 1);
-      CHECK((color.col(v) - expected).norm() < 1e-6);
+                                                           : Eigen::Vector4d(1, 0.21404, 0, 1);
+      CHECK((color.col(v) - expected).norm() < 1e-5);
     }
     // Translucent objects blend; opaque ones do not.
     CHECK(m.materials.at(prim.material).alphaMode == (k == 1 ? "BLEND" : "OPAQUE"));
@@ -424,11 +436,20 @@ TEST_CASE("glTF: .gltf JSON with its .bin, written atomically; bad paths leave n
              WithinRel(cw4d::test::bspline_section_volume(model, sec.frame.plane.normal, 0.3), 1e-5));
 
   CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "a.bin").string(), nodes), cw4d::InputError);
-  CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "missing/dir/a.glb").string(), nodes,
-                                        {.binary = true}),
+  cw4d::GltfOptions binary;
+  binary.binary = true;
+  CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "missing/dir/a.glb").string(), nodes, binary),
                   cw4d::IoError);
   CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "empty.glb").string(), {}), cw4d::InputError);
   CHECK(dir.entries() == 2);
+
+  // The JSON cannot be written (its path is a directory): the earlier pair stays as it was and
+  // no temporary file is left.
+  std::filesystem::create_directory(dir / "taken.gltf");
+  dir.write("taken.bin", "old buffer");
+  CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "taken.gltf").string(), nodes), cw4d::IoError);
+  CHECK(cw4d::test::read_text(dir / "taken.bin") == "old buffer");
+  CHECK(dir.entries() == 4);
 }
 
 TEST_CASE("PLY: binary, welded per color into a watertight mesh with the oracle's volume",
@@ -468,9 +489,9 @@ TEST_CASE("PLY: colors are sRGB bytes, vertices split only where colors change",
   // The red cell (one square face of the cube) has its own 4 corners; the cube's 8
   // vertices are shared by the other five faces.
   CHECK(ply.soup.p.size() == 8 + 4);
-  // sRGB encoding of linear 0.5 and 0.25: 188 and 137 (IEC 61966-2-1).
+  // Colors are stored as written in the scene (sRGB, like hex colors): 0.5 -> 128, 0.25 -> 64.
   std::set<std::array<unsigned char, 4>> colors(ply.color.begin(), ply.color.end());
-  CHECK(colors == std::set<std::array<unsigned char, 4>>{{255, 0, 0, 128}, {188, 137, 255, 128}});
+  CHECK(colors == std::set<std::array<unsigned char, 4>>{{255, 0, 0, 128}, {128, 64, 255, 128}});
   CHECK_THAT(soup_volume(ply.soup), WithinRel(8.0, 1e-6));
 }
 
@@ -576,4 +597,67 @@ TEST_CASE("UVW: every facet's box maps its own vertices onto [0,1]^3, touching 0
       CHECK((maps[c].to_uvw * n).cwiseAbs().maxCoeff() < 1e-9);
     }
   }
+}
+
+TEST_CASE("non-convex sections: a polygon with a hole is triangulated around it in every format",
+          "[export][nonconvex]") {
+  // A square picture frame ([-2,2]^2 minus [-1,1]^2, z in [-1,1]) extruded along w in [-1,1],
+  // cut by z + w = c: the solid {frame, z in [c - 1, 1]} tilted by the plane, so its volume is
+  // area 12 x height (2 - c) x sqrt(2). The cut of the cell frame x {w = 1} is a square annulus:
+  // an outer loop and a hole of one cell.
+  TempDir dir;
+  const cw4d::Complex model =
+      cw4d::load_model("extrude:" + std::string(CW4D_TEST_DATA_DIR) + "/frame.off");
+  const double c = 0.5;
+  const cw4d::Hyperplane plane = cw4d::Hyperplane::from(vec({0, 0, 1, 1}), c / std::sqrt(2.0));
+  const cw4d::Section sec = cw4d::section(model, plane);
+  const double volume = 12.0 * (2.0 - c) * std::sqrt(2.0);
+  const auto meshes = cw4d::triangle_meshes(sec);
+  REQUIRE(meshes.size() == 1);
+  // The triangles cover the polygons exactly: their areas sum to the surface area of the solid,
+  // 2 x 12 (annulus and trapezoids) + 16 x 1.5 sqrt(2) (outer walls) + 8 x 1.5 sqrt(2) (inner).
+  Soup s;
+  for (Eigen::Index v = 0; v < meshes[0].position.cols(); ++v)
+    s.p.emplace_back(meshes[0].position.col(v).cast<double>());
+  for (std::size_t t = 0; t < meshes[0].triangle_count(); ++t)
+    s.t.push_back({meshes[0].triangles[3 * t], meshes[0].triangles[3 * t + 1],
+                   meshes[0].triangles[3 * t + 2]});
+  CHECK_THAT(soup_area(s), WithinRel(24.0 + 24.0 * 1.5 * std::sqrt(2.0), 1e-5));
+  CHECK_THAT(soup_volume(s), WithinRel(volume, 1e-5));
+  const tinygltf::Model m = load_glb(cw4d::glb_bytes(nodes_of(sec, model)));
+  CHECK_THAT(soup_volume(soup_of(m, m.meshes.at(0).primitives.at(0))), WithinRel(volume, 1e-5));
+  cw4d::write_ply_file((dir / "f.ply").string(), meshes);
+  const PlyFile ply = read_ply(cw4d::test::read_text(dir / "f.ply"));
+  CHECK(watertight(ply.soup));
+  CHECK_THAT(soup_volume(ply.soup), WithinRel(volume, 1e-5));
+  // OBJ: the annulus cannot be one polygon, so it is written as triangles around the hole.
+  // Each `f` polygon fanned contributes its exact signed volume (true for any planar polygon).
+  for (bool triangulate : {false, true}) {
+    cw4d::ObjOptions opt;
+    opt.triangulate = triangulate;
+    std::istringstream obj(cw4d::obj_text(sec, opt));
+    std::vector<Eigen::Vector3d> v;
+    double obj_volume = 0;
+    std::string line;
+    while (std::getline(obj, line)) {
+      std::istringstream in(line);
+      std::string tag;
+      in >> tag;
+      if (tag == "v") {
+        Eigen::Vector3d p;
+        in >> p(0) >> p(1) >> p(2);
+        v.push_back(p);
+      } else if (tag == "f") {
+        std::vector<int> ids;
+        for (std::string c; in >> c;) ids.push_back(std::stoi(c) - 1);
+        for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+          obj_volume += v.at(ids[0]).dot(v.at(ids[k]).cross(v.at(ids[k + 1]))) / 6.0;
+      }
+    }
+    INFO("triangulate " << triangulate);
+    CHECK_THAT(obj_volume, WithinRel(volume, 1e-6));
+  }
+  cw4d::write_stl_file((dir / "f.stl").string(), meshes);
+  CHECK_THAT(soup_volume(read_stl(cw4d::test::read_text(dir / "f.stl")).soup),
+             WithinRel(volume, 1e-5));
 }

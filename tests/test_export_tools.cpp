@@ -164,6 +164,16 @@ TEST_CASE("sweep: numbered files in a folder, empty layers reported and not writ
   for (const char* f : {"objs/s_000.obj", "objs/s_001.obj", "objs/s_002.obj"}) {
     CHECK(assimp_info(dir, f).faces == 8);  // |x| < 1 cuts the 16-cell in an octahedron
   }
+  // A layer that cannot be written (its path is a directory): exit 4, and the layers written
+  // before it are removed again.
+  std::filesystem::create_directories(dir / "fail/layer_002.ply");
+  const Result fail = cw4d::test::run_program(
+      dir, CW4D_EXE, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-0.5", "--to", "0.5",
+                      "--layers", "4", "--format", "ply", "-o", "fail"});
+  CHECK(fail.code == 4);
+  CHECK(!dir.exists("fail/layer_000.ply"));
+  CHECK(!dir.exists("fail/layer_001.ply"));
+  CHECK(!dir.exists("fail/layer_003.ply"));
   // Every layer misses: exit 5, nothing written.
   const Result miss = cw4d::test::run_program(
       dir, CW4D_EXE, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "2", "--to", "3",

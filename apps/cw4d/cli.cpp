@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/scene_section.hpp"
 
@@ -127,8 +128,19 @@ void require_valid(const Complex& model, const std::string& spec) {
   const ValidationReport report = validate(model);
   if (report.ok()) return;
   const auto& first = report.issues.front();
+  // A model read from an nOFF file: name the line of the first offending element.
+  std::string where;
+  if (!is_builtin_spec(spec) && is_off_extension(lower_extension(spec))) {
+    OffLines lines;
+    try {
+      read_off_file(spec, &lines);
+    } catch (const Error&) {
+    }
+    if (const std::size_t line = lines.line_of(first.rank, first.id))
+      where = spec + ":" + std::to_string(line) + ": ";
+  }
   throw TopologyError(first.rank, {first.id},
-                      "model '" + spec + "' is not a valid complex: " + report.summary());
+                      where + "model '" + spec + "' is not a valid complex: " + report.summary());
 }
 
 // Creating missing parent directories is a convenience (documented in --help); failing to

@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/section/triangulate.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
 #include "output.hpp"
 
@@ -15,7 +16,7 @@ struct SliceSettings {
   double offset = 0.0;
   bool triangulate = false;
   bool no_uvw = false;
-  std::string format;  // --format, empty: from the extension
+  std::string format;         // --format, empty: from the extension
   std::string method = "cw";  // --method cw | tet
   std::string output;
 };
@@ -27,8 +28,9 @@ void run_slice(SliceSettings& s) {
   out.triangulate = s.triangulate;
   out.uvw = !s.no_uvw;
   if (s.triangulate && out.format != SectionFormat::obj)
-    throw InputError("--triangulate applies to .obj output only (the other mesh formats are "
-                     "triangles already)");
+    throw InputError(
+        "--triangulate applies to .obj output only (the other mesh formats are "
+        "triangles already)");
   const Placement& p = s.placement;
   const Input input = load_input(p);
   check_format(out.format, input.dim(),
@@ -50,23 +52,19 @@ void run_slice(SliceSettings& s) {
   const Section& sec = cut_result.section;
   const std::string cut_text = "n=(" + join(p.normal, brief) + "), d=" + brief(s.offset);
   if (sec.empty())
-    throw EmptySection("the plane " + cut_text + (input.is_scene ? " misses every object of " : " misses ") +
+    throw EmptySection("the plane " + cut_text +
+                       (input.is_scene ? " misses every object of " : " misses ") +
                        p.input_label() + "; nothing written to '" + s.output + "'");
 
   out.comment = "cw4d slice of " + (input.is_scene ? "scene " + p.scene : p.model) +
                 "\nplane: n=(" + join(p.normal, exact) + "), d=" + exact(s.offset) +
                 " (world space, n normalized)";
-  if (!input.is_scene)
-    out.comment += "\nmodel-to-world:" + p.transform_text() + " (in this order)";
-  const std::string written = write_section(s.output, sec, input, out);
+  if (!input.is_scene) out.comment += "\nmodel-to-world:" + p.transform_text() + " (in this order)";
+  const std::string written = describe_files(write_section(s.output, sec, input, out));
 
   std::string extra;
-  if (s.triangulate) {
-    std::size_t triangles = 0;
-    for (std::uint32_t f = 0; f < sec.complex.count(2); ++f)
-      triangles += sec.complex.face_cycle(f).size() - 2;
-    extra = " as " + std::to_string(triangles) + " triangles";
-  }
+  if (s.triangulate)
+    extra = " as " + std::to_string(triangulate_section(sec).size()) + " triangles";
   std::cout << "wrote " << written << ": " << describe_counts(sec.complex) << extra << ", volume "
             << brief(signed_volume(sec.complex));
   if (!input.is_scene) {
@@ -99,7 +97,8 @@ void add_slice_command(CLI::App& app, Commands& commands) {
                   "Signed distance d of the plane from the origin along the unit normal")
       ->type_name("D")
       ->required();
-  cmd->add_flag("--triangulate", s->triangulate, "Fan-triangulate the polygons (OBJ only)");
+  cmd->add_flag("--triangulate", s->triangulate,
+                "Triangulate the polygons (OBJ only; polygons with holes always are)");
   cmd->add_option("--method", s->method,
                   "cw: the layered CW-complex section (polygons); tet: tetrahedralize the model "
                   "and cut each tetrahedron (triangles, no UVW in the file)")

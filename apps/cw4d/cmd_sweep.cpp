@@ -79,21 +79,21 @@ void run_sweep(SweepSettings& s) {
                                          : (s.format == "glb" || s.format == "gltf") &&
                                                (ext == ".glb" || ext == ".gltf");
   SectionOutput out;
-  LayerFiles files;
+  LayerFiles layer;
   if (one_file) {
     out.format = choose_format(s.output, s.format);
   } else if (ext.empty()) {
     out.format = choose_format("", s.format.empty() ? "obj" : s.format);
-    files.directory = s.output;
-    files.stem = "layer";
-    files.extension = format_extension(out.format);
+    layer.directory = s.output;
+    layer.stem = "layer";
+    layer.extension = format_extension(out.format);
   } else {
     out.format = choose_format(s.output, s.format);
-    files.directory = fs::path(s.output).parent_path();
-    files.stem = fs::path(s.output).stem().string();
-    files.extension = fs::path(s.output).extension().string();
+    layer.directory = fs::path(s.output).parent_path();
+    layer.stem = fs::path(s.output).stem().string();
+    layer.extension = fs::path(s.output).extension().string();
   }
-  files.digits = std::max(3, static_cast<int>(std::to_string(s.layers - 1).size()));
+  layer.digits = std::max(3, static_cast<int>(std::to_string(s.layers - 1).size()));
   out.uvw = !s.no_uvw;
 
   const Input input = load_input(p);
@@ -103,32 +103,45 @@ void run_sweep(SweepSettings& s) {
   Progress progress(s.layers, !s.quiet);
   std::vector<GltfNode> nodes;
   std::vector<int> empty;
-  std::vector<std::string> written;
+  std::vector<std::string> written;  // per layer file, for the summary
+  std::vector<std::string> files;    // every file written, companions included
   std::size_t polygons = 0;
   progress.step(0);
-  for (int i = 0; i < s.layers; ++i) {
-    const double d = s.layers == 1 ? s.from : s.from + (s.to - s.from) * i / (s.layers - 1);
-    const Section sec = cut(input, p.plane(d)).section;
-    if (sec.empty()) {
-      empty.push_back(i);
-    } else {
-      polygons += sec.complex.count(2);
-      const std::string name = "layer " + std::to_string(i) + " d=" + brief(d);
-      if (one_file) {
-        GltfNode node;
-        node.name = name;
-        node.meshes = section_meshes(sec, input, out.uvw);
-        nodes.push_back(std::move(node));
+  try {
+    for (int i = 0; i < s.layers; ++i) {
+      const double d = s.layers == 1 ? s.from : s.from + (s.to - s.from) * i / (s.layers - 1);
+      const Section sec = cut(input, p.plane(d)).section;
+      if (sec.empty()) {
+        empty.push_back(i);
       } else {
-        out.comment = "cw4d sweep of " + (input.is_scene ? "scene " + p.scene : p.model) + ", " +
-                      name + "\nplane: n=(" + join(p.normal, exact) + "), d=" + exact(d) +
-                      " (world space, n normalized)";
-        if (!input.is_scene)
-          out.comment += "\nmodel-to-world:" + p.transform_text() + " (in this order)";
-        written.push_back(write_section(files.path(i), sec, input, out));
+        polygons += sec.complex.count(2);
+        const std::string name = "layer " + std::to_string(i) + " d=" + brief(d);
+        if (one_file) {
+          GltfNode node;
+          node.name = name;
+          node.meshes = section_meshes(sec, input, out.uvw);
+          nodes.push_back(std::move(node));
+        } else {
+          out.comment = "cw4d sweep of " + (input.is_scene ? "scene " + p.scene : p.model) + ", " +
+                        name + "\nplane: n=(" + join(p.normal, exact) + "), d=" + exact(d) +
+                        " (world space, n normalized)";
+          if (!input.is_scene)
+            out.comment += "\nmodel-to-world:" + p.transform_text() + " (in this order)";
+          const auto layer_files = write_section(layer.path(i), sec, input, out);
+          files.insert(files.end(), layer_files.begin(), layer_files.end());
+          written.push_back(layer_files.front());
+        }
       }
+      progress.step(i + 1);
     }
-    progress.step(i + 1);
+  } catch (...) {
+    // A failed sweep leaves none of its layers behind (files of earlier runs stay as they were,
+    // except those this run had already replaced).
+    for (const auto& f : files) {
+      std::error_code ignored;
+      fs::remove(f, ignored);
+    }
+    throw;
   }
   const std::string range = "d from " + brief(s.from) + " to " + brief(s.to);
   if (static_cast<int>(empty.size()) == s.layers)
@@ -151,8 +164,7 @@ void run_sweep(SweepSettings& s) {
   std::cout << "wrote " << (one_file ? written.front() : std::to_string(written.size()) + " files")
             << ": " << full << " of " << s.layers << " layers, " << polygons << " polygons ("
             << (input.is_scene ? "scene " + p.scene : p.model) << ", " << range << ")\n";
-  if (!one_file)
-    std::cout << "  first " << written.front() << ", last " << written.back() << '\n';
+  if (!one_file) std::cout << "  first " << written.front() << ", last " << written.back() << '\n';
   if (!empty.empty()) {
     std::cout << "  empty layers (not written):";
     for (int i : empty)

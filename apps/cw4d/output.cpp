@@ -38,9 +38,13 @@ const FormatEntry& entry(SectionFormat f) {
 
 }  // namespace
 
-const char* format_name(SectionFormat f) { return entry(f).name; }
+const char* format_name(SectionFormat f) {
+  return entry(f).name;
+}
 
-std::string format_extension(SectionFormat f) { return entry(f).extensions[0]; }
+std::string format_extension(SectionFormat f) {
+  return entry(f).extensions[0];
+}
 
 std::string supported_formats() {
   std::string out;
@@ -54,7 +58,8 @@ std::string supported_formats() {
 SectionFormat choose_format(const std::string& path, const std::string& forced) {
   if (!forced.empty()) {
     for (const auto& e : kFormats)
-      if (forced == e.name || (e.format == SectionFormat::off && (forced == "off" || forced == "noff")))
+      if (forced == e.name ||
+          (e.format == SectionFormat::off && (forced == "off" || forced == "noff")))
         return e.format;
     throw InputError("--format " + forced + ": unknown format; supported: " + supported_formats());
   }
@@ -86,8 +91,8 @@ void check_format(SectionFormat f, int dim, const std::string& where) {
       break;
     default:
       if (dim != 4)
-        throw InputError(std::string(format_name(f)) +
-                         " output holds 3D sections of 4D models; " + where);
+        throw InputError(std::string(format_name(f)) + " output holds 3D sections of 4D models; " +
+                         where);
   }
 }
 
@@ -97,8 +102,14 @@ std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input,
   return triangle_meshes(sec, input.object_names(), uvw ? &corners : nullptr);
 }
 
-std::string write_section(const std::string& path, const Section& sec, const Input& input,
-                          const SectionOutput& out) {
+std::string describe_files(const std::vector<std::string>& files) {
+  std::string out;
+  for (std::size_t i = 0; i < files.size(); ++i) out += (i ? " and " : "") + files[i];
+  return out;
+}
+
+std::vector<std::string> write_section(const std::string& path, const Section& sec,
+                                       const Input& input, const SectionOutput& out) {
   namespace fs = std::filesystem;
   prepare_output_directory(path);
   switch (out.format) {
@@ -113,8 +124,8 @@ std::string write_section(const std::string& path, const Section& sec, const Inp
       }
       write_obj_file(path, sec, opt);
       if (!mtl_text(sec.complex).empty())
-        return path + " and " + fs::path(path).replace_extension(".mtl").string();
-      return path;
+        return {path, fs::path(path).replace_extension(".mtl").string()};
+      return {path};
     }
     case SectionFormat::gltf:
     case SectionFormat::glb: {
@@ -129,23 +140,23 @@ std::string write_section(const std::string& path, const Section& sec, const Inp
         nodes.push_back(std::move(node));
       }
       write_gltf_file(path, nodes, opt);
-      if (opt.binary) return path;
-      return path + " and " + fs::path(path).replace_extension(".bin").string();
+      if (opt.binary) return {path};
+      return {path, fs::path(path).replace_extension(".bin").string()};
     }
     case SectionFormat::ply:
       write_ply_file(path, section_meshes(sec, input, false));
-      return path;
+      return {path};
     case SectionFormat::stl:
       write_stl_file(path, section_meshes(sec, input, false));
-      return path;
+      return {path};
     case SectionFormat::svg:
       write_svg_file(path, sec);
-      return path;
+      return {path};
     case SectionFormat::off:
       write_off_file(path, sec.complex);
-      return path;
+      return {path};
   }
-  return path;
+  return {path};
 }
 
 }  // namespace cw4d::cli

@@ -31,9 +31,12 @@ struct SectionOutput {
 };
 
 /// Writes `sec` (cut from `input`) to `path`, through temporary files and renames.
-/// \return the files written, e.g. "a.obj and a.mtl".
-std::string write_section(const std::string& path, const Section& sec, const Input& input,
+/// \return the files written, e.g. {"a.obj", "a.mtl"}.
+std::vector<std::string> write_section(const std::string& path, const Section& sec, const Input& input,
                           const SectionOutput& out);
+
+/// "a.obj and a.mtl"
+std::string describe_files(const std::vector<std::string>& files);
 
 /// The glTF meshes of one section (per object), with UVW when asked.
 std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw);

@@ -1,27 +1,32 @@
 #include "cw4d/complex/atomic_file.hpp"
 
+#include <unistd.h>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <atomic>
-#include <unistd.h>
 #include <string>
 
 #include "cw4d/complex/error.hpp"
 
 namespace cw4d {
 
-void write_file_atomically(const std::string& path, std::string_view content) {
-  namespace fs = std::filesystem;
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes `content` to a new temporary file in the directory of `path` (so that renaming it over
+// `path` is atomic) and returns its name. \throw IoError, with nothing left behind.
+fs::path write_temporary(const std::string& path, std::string_view content) {
   const fs::path target(path);
   if (target.filename().empty()) throw IoError("cannot write '" + path + "': not a file name");
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw IoError("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
-  // A unique temporary name in the same directory, so the rename is atomic.
+  if (fs::is_directory(target, ec)) throw IoError("cannot write '" + path + "': it is a directory");
   static std::atomic<unsigned> counter{0};
   fs::path tmp;
   for (int attempt = 0; attempt < 64; ++attempt) {
@@ -40,7 +45,13 @@ void write_file_atomically(const std::string& path, std::string_view content) {
       throw IoError("cannot write '" + path + "': write failed");
     }
   }
-  fs::rename(tmp, target, ec);
+  return tmp;
+}
+
+// Renames the temporary file over `path`; on failure removes it. \throw IoError
+void commit(const fs::path& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
@@ -48,17 +59,36 @@ void write_file_atomically(const std::string& path, std::string_view content) {
   }
 }
 
+}  // namespace
+
+void write_file_atomically(const std::string& path, std::string_view content) {
+  commit(write_temporary(path, content), path);
+}
+
 void write_files_atomically(const std::vector<FileContent>& files) {
-  std::size_t written = 0;
-  try {
-    for (; written < files.size(); ++written)
-      write_file_atomically(files[written].path, files[written].content);
-  } catch (...) {
-    for (std::size_t i = 0; i < written; ++i) {
+  // Every file is first written completely to a temporary; a failure there (a full disk, a bad
+  // path) leaves the previous versions of the whole group untouched.
+  std::vector<fs::path> temps;
+  const auto remove_temps = [&](std::size_t from) {
+    for (std::size_t i = from; i < temps.size(); ++i) {
       std::error_code ignored;
-      std::filesystem::remove(files[i].path, ignored);
+      fs::remove(temps[i], ignored);
     }
+  };
+  try {
+    for (const auto& f : files) temps.push_back(write_temporary(f.path, f.content));
+  } catch (...) {
+    remove_temps(0);
     throw;
+  }
+  // Then the renames, in order (companions before the file that refers to them).
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    try {
+      commit(temps[i], files[i].path);
+    } catch (...) {
+      remove_temps(i + 1);
+      throw;
+    }
   }
 }
 

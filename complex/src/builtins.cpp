@@ -14,6 +14,7 @@
 #include "cw4d/complex/mesh_import.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
+#include "cw4d/complex/toratopes.hpp"
 #include "cw4d/complex/wythoff.hpp"
 
 namespace cw4d {
@@ -240,8 +241,17 @@ Complex make_product(const Complex& pc, const Complex& qc) {
   const Augmented P{pc}, Q{qc};
   const int p = P.dim(), q = Q.dim(), n = p + q;
   if (pc.count(0) == 0 || qc.count(0) == 0) throw InputError("product of an empty complex");
-  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 5e7)
-    throw InputError("product is too large");
+  // The product has (sum_i f_i(P)) * (sum_j f_j(Q)) elements (pairs, the solids included):
+  // refuse before allocating when that would exhaust memory (a 10-cube times a 10-cube).
+  double pairs = 1.0;
+  for (const Augmented* x : {&P, &Q}) {
+    double total = 0.0;
+    for (int k = 0; k <= x->dim(); ++k) total += static_cast<double>(x->count(k));
+    pairs *= total;
+  }
+  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 5e7 || pairs > 5e7)
+    throw InputError("product is too large (" + std::to_string(static_cast<long long>(pairs)) +
+                     " elements, at most 50000000)");
   // offset[i][j]: first id of the block of pairs (rank-i element of P, rank-j element of Q).
   std::vector<std::vector<std::uint32_t>> offset(p + 1, std::vector<std::uint32_t>(q + 1, 0));
   std::vector<std::uint32_t> rank_count(n + 1, 0);
@@ -344,6 +354,24 @@ std::pair<double, int> parse_radius_resolution(std::string_view args, std::strin
     throw InputError("model spec '" + std::string(spec) +
                      "' expects R,N (a radius and an integer)");
   return {r, parse_ints(args.substr(comma + 1), spec, 1)[0]};
+}
+
+// "A,B,...,N": `count` positive reals (radii) then an integer resolution.
+std::pair<std::vector<double>, int> parse_radii_resolution(std::string_view args,
+                                                           std::string_view spec, int count) {
+  std::vector<double> radii;
+  for (int i = 0; i < count; ++i) {
+    const std::size_t comma = args.find(',');
+    const std::string_view text = args.substr(0, comma);
+    double r = 0.0;
+    auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), r);
+    if (comma == std::string_view::npos || ec != std::errc() || ptr != text.data() + text.size())
+      throw InputError("model spec '" + std::string(spec) + "' expects " + std::to_string(count) +
+                       " radii and an integer resolution");
+    radii.push_back(r);
+    args.remove_prefix(comma + 1);
+  }
+  return {radii, parse_ints(args, spec, 1)[0]};
 }
 
 // "FILE,STEPS" of spin: the path is everything before the last comma.
@@ -510,6 +538,27 @@ std::vector<ModelFamily> default_families() {
             make_cubinder);
   add_round("spherinder", "spherinder:R,N",
             "sphere:R,N x [-R,R] (-> spherinder, volume 8/3 pi R^4), N = 3..1000", make_spherinder);
+  // Non-convex toratopes (toratopes.hpp): solids of revolution of a torus or a sphere.
+  auto add_toratope = [&f](const char* head, const char* usage, const char* description,
+                           int radii, std::function<Complex(const std::vector<double>&, int)> make) {
+    f.push_back(parametric_family(head, usage, description,
+                                  [radii, make](const std::string& spec, std::string_view a) {
+                                    const auto [r, n] = parse_radii_resolution(a, spec, radii);
+                                    return make(r, n);
+                                  }));
+  };
+  add_toratope("spheritorus", "spheritorus:R,r,N",
+               "sphere of radius r swept around a circle of radius R (non-convex), N = 3..128", 2,
+               [](const std::vector<double>& r, int n) { return make_spheritorus(r[0], r[1], n); });
+  add_toratope("torisphere", "torisphere:R,r,N",
+               "circle of radius r swept over a sphere of radius R (non-convex), N = 3..128", 2,
+               [](const std::vector<double>& r, int n) { return make_torisphere(r[0], r[1], n); });
+  add_toratope("ditorus", "ditorus:R1,R2,r,N",
+               "torus (R2, r) swept around a circle of radius R1 (non-convex), N = 3..128", 3,
+               [](const std::vector<double>& r, int n) { return make_ditorus(r[0], r[1], r[2], n); });
+  add_toratope("tiger", "tiger:R1,R2,r,N",
+               "tiger: (|(x,w)| - R1)^2 + (|(y,z)| - R2)^2 <= r^2 (non-convex), N = 3..128", 3,
+               [](const std::vector<double>& r, int n) { return make_tiger(r[0], r[1], r[2], n); });
   f.push_back(
       parametric_family("extrude", "extrude:FILE",
                         "4D prism (height 2) over a closed polyhedron read from an OBJ, OFF, "

@@ -12,11 +12,13 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 
 namespace cw4d {
 
@@ -55,6 +57,24 @@ std::vector<Line> tokenize(std::string_view text) {
   return lines;
 }
 
+// A token as shown in a message: quoted, with control and non-ASCII bytes (which may not be
+// UTF-8) escaped as \xNN, and cut after 40 bytes, so that every message is one printable line.
+std::string show(std::string_view tok) {
+  static const char* hex = "0123456789abcdef";
+  std::string out = "'";
+  for (std::size_t i = 0; i < tok.size() && i < 40; ++i) {
+    const auto ch = static_cast<unsigned char>(tok[i]);
+    if (ch >= 0x20 && ch < 0x7f) {
+      out += static_cast<char>(ch);
+    } else {
+      out += "\\x";
+      out += hex[ch >> 4];
+      out += hex[ch & 15];
+    }
+  }
+  return out + (tok.size() > 40 ? "...'" : "'");
+}
+
 class Parser {
  public:
   Parser(std::string name, std::vector<Line> lines) : name_(std::move(name)), lines_(std::move(lines)) {}
@@ -76,17 +96,17 @@ class Parser {
     std::uint64_t v = 0;
     auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
     if (ec != std::errc() || ptr != tok.data() + tok.size())
-      fail(line, std::string(what) + " '" + std::string(tok) + "' is not a non-negative integer");
+      fail(line, std::string(what) + " " + show(tok) + " is not a non-negative integer");
     return v;
   }
 
   double parse_double(std::string_view tok, std::size_t line, const std::string& what) const {
     double v = 0;
     auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec == std::errc::result_out_of_range) fail(line, what + " '" + std::string(tok) + "' is out of range");
+    if (ec == std::errc::result_out_of_range) fail(line, what + " " + show(tok) + " is out of range");
     if (ec != std::errc() || ptr != tok.data() + tok.size())
-      fail(line, what + " '" + std::string(tok) + "' is not a number");
-    if (!std::isfinite(v)) fail(line, what + " '" + std::string(tok) + "' is not finite");
+      fail(line, what + " " + show(tok) + " is not a number");
+    if (!std::isfinite(v)) fail(line, what + " " + show(tok) + " is not finite");
     return v;
   }
 
@@ -154,8 +174,8 @@ class Parser {
       if (ec == std::errc() && ptr == h.data() + h.size() - 3) dim = v;
     }
     if (dim < 3 || dim > max_off_dim)
-      fail(head.number, "header '" + std::string(h) +
-                            "' is not OFF, 4OFF or nOFF with n = 3.." + std::to_string(max_off_dim));
+      fail(head.number, "header " + show(h) + " is not OFF, 4OFF or nOFF with n = 3.." +
+                            std::to_string(max_off_dim));
     // Counts may follow the header on the same line.
     std::vector<std::string_view> count_tokens(head.tokens.begin() + 1, head.tokens.end());
     std::size_t count_line = head.number;
@@ -185,6 +205,7 @@ class Parser {
 
     ComplexSoup soup;
     soup.ambient_dim = dim;
+    where_.lines.assign(static_cast<std::size_t>(dim), {});
     soup.positions.resize(dim, static_cast<Eigen::Index>(nv));
     for (std::uint64_t v = 0; v < nv; ++v) {
       const Line& l = next("vertex " + std::to_string(v));
@@ -194,6 +215,7 @@ class Parser {
       for (int i = 0; i < dim; ++i)
         soup.positions(i, static_cast<Eigen::Index>(v)) =
             parse_double(l.tokens[i], l.number, "vertex " + std::to_string(v) + " coordinate");
+      where_.lines[0].push_back(l.number);
     }
     std::vector<Rgba> colors;
     bool any_color = false;
@@ -205,7 +227,9 @@ class Parser {
       soup.faces.push_back(parse_list(l, nv, "face " + std::to_string(f), "vertex", 3, &color, &has));
       colors.push_back(color);
       any_color = any_color || has;
+      where_.lines[2].push_back(l.number);
     }
+    locate_edges(soup.faces);
     if (any_color) soup.face_colors = colors;
     for (int k = 3; k < dim; ++k) {
       const std::uint64_t below = k == 3 ? nf : counts[k - 1];
@@ -222,6 +246,7 @@ class Parser {
         level.push_back(parse_list(l, below, kind + " " + std::to_string(x), child, 2, &color, &has));
         colors.push_back(color);
         any_color = any_color || has;
+        where_.lines[k].push_back(l.number);
       }
       soup.higher_colors.push_back(any_color ? colors : std::vector<Rgba>{});
     }
@@ -229,14 +254,32 @@ class Parser {
     try {
       return build_complex(soup);
     } catch (const TopologyError& e) {
-      fail(count_line, e.what());
+      const std::size_t line = e.ids().empty() ? 0 : where_.line_of(e.rank(), e.ids().front());
+      fail(line ? line : count_line, e.what());
     }
   }
 
+  const OffLines& where() const { return where_; }
+
  private:
+  // Edges in build_complex's numbering (distinct vertex pairs in order of first appearance in
+  // the face cycles), each at the line of that face.
+  void locate_edges(const std::vector<std::vector<std::uint32_t>>& faces) {
+    std::unordered_set<std::uint64_t> seen;
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto& cyc = faces[f];
+      for (std::size_t i = 0; i < cyc.size(); ++i) {
+        const std::uint64_t a = cyc[i], b = cyc[(i + 1) % cyc.size()];
+        if (seen.insert(std::min(a, b) << 32 | std::max(a, b)).second)
+          where_.lines[1].push_back(where_.lines[2][f]);
+      }
+    }
+  }
+
   std::string name_;
   std::vector<Line> lines_;
   std::size_t cursor_ = 0;
+  OffLines where_;
 };
 
 void append_number(std::string& out, double v) {
@@ -247,23 +290,21 @@ void append_number(std::string& out, double v) {
 
 }  // namespace
 
-Complex read_off(std::istream& in, const std::string& name) {
+Complex read_off(std::istream& in, const std::string& name, OffLines* lines) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw ParseError(name, 0, "read error");
   Parser parser(name, tokenize(text));
-  return parser.parse();
+  Complex c = parser.parse();
+  if (lines) *lines = parser.where();
+  return c;
 }
 
-Complex read_off_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw ParseError(path, 0, "is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, "cannot open file");
-  try {
-    return read_off(in, path);
-  } catch (const std::ios_base::failure& e) {
-    throw ParseError(path, 0, std::string("read error: ") + e.what());
-  }
+Complex read_off_file(const std::string& path, OffLines* lines) {
+  const std::string text = read_input_file(path);  // the tokens are views into it
+  Parser parser(path, tokenize(text));
+  Complex c = parser.parse();
+  if (lines) *lines = parser.where();
+  return c;
 }
 
 namespace {

@@ -16,6 +16,7 @@
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 
 namespace cw4d {
 
@@ -150,7 +151,19 @@ class Builder final : public nlohmann::json_sax<json> {
     const std::size_t column = reason.find(", column ");
     const std::size_t colon = column == std::string::npos ? column : reason.find(": ", column);
     if (colon != std::string::npos) reason = reason.substr(colon + 2);
-    throw ParseError(doc_.name, lines_.line_before(position), "invalid JSON: " + reason);
+    // The reason quotes the input ("last read: ..."), which may hold bytes that are not UTF-8
+    // or not printable: escape them, so the message stays one printable line.
+    std::string printable;
+    for (const char ch : reason) {
+      const auto b = static_cast<unsigned char>(ch);
+      if (b >= 0x20 && b < 0x7f) {
+        printable += ch;
+      } else {
+        static const char* hex = "0123456789abcdef";
+        printable += {'\\', 'x', hex[b >> 4], hex[b & 15]};
+      }
+    }
+    throw ParseError(doc_.name, lines_.line_before(position), "invalid JSON: " + printable);
   }
 
  private:
@@ -465,12 +478,9 @@ Scene read_scene(std::istream& in, const std::string& name, const std::string& b
 }
 
 Scene read_scene_file(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw ParseError(path, 0, "cannot read: is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  const std::string text = read_input_file(path);
   const std::string dir = fs::path(path).parent_path().string();
-  return read_scene(in, path, dir.empty() ? "." : dir);
+  return SceneReader(parse_document(text, path), dir.empty() ? "." : dir).read();
 }
 
 }  // namespace cw4d

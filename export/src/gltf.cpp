@@ -1,6 +1,8 @@
 #include "cw4d/export/gltf.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -21,6 +23,12 @@ namespace cw4d {
 namespace {
 
 constexpr int kArrayBuffer = TINYGLTF_TARGET_ARRAY_BUFFER;
+
+// IEC 61966-2-1: an sRGB-encoded component in [0, 1] to linear light.
+float srgb_to_linear(float c) {
+  c = std::clamp(c, 0.0f, 1.0f);
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 constexpr int kElementArrayBuffer = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
 
 // Builds one tinygltf::Model with a single buffer; each accessor gets its own buffer view.
@@ -80,15 +88,19 @@ class ModelBuilder {
       throw InputError("glTF: mesh '" + m.name + "' has no triangles");
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
-    prim.attributes["POSITION"] = float_accessor(m.position, TINYGLTF_TYPE_VEC3, kArrayBuffer, true);
+    prim.attributes["POSITION"] =
+        float_accessor(m.position, TINYGLTF_TYPE_VEC3, kArrayBuffer, true);
     prim.attributes["NORMAL"] = float_accessor(m.normal, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
     bool blend = false;
     if (m.color.cols() > 0) {
-      prim.attributes["COLOR_0"] = float_accessor(m.color, TINYGLTF_TYPE_VEC4, kArrayBuffer, false);
+      Eigen::Matrix4Xf linear = m.color;
+      linear.topRows<3>() = linear.topRows<3>().unaryExpr(&srgb_to_linear);
+      prim.attributes["COLOR_0"] = float_accessor(linear, TINYGLTF_TYPE_VEC4, kArrayBuffer, false);
       blend = m.color.row(3).minCoeff() < 1.0f;
     }
     if (m.uvw.cols() > 0) {
-      const Eigen::Matrix2Xf uv = m.uvw.topRows<2>();
+      Eigen::Matrix2Xf uv = m.uvw.topRows<2>();
+      uv.row(1) = (1.0f - uv.row(1).array()).matrix();
       prim.attributes["TEXCOORD_0"] = float_accessor(uv, TINYGLTF_TYPE_VEC2, kArrayBuffer, false);
       prim.attributes["_UVW"] = float_accessor(m.uvw, TINYGLTF_TYPE_VEC3, kArrayBuffer, false);
     }

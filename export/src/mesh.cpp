@@ -68,14 +68,26 @@ std::vector<TriangleMesh> triangle_meshes(const Section& section,
       mesh.section_vertex.push_back(cycle[j]);
     }
   }
-  for (const Triangle& t : fan_triangulate(c)) {
+  // Non-convex polygons are ear-clipped, and holes (loops of the same cell inside another) are
+  // bridged into their outer loop: a triangle may use corners of the face's holes.
+  const std::vector<std::vector<std::uint32_t>> holes = section_holes(section);
+  for (const Triangle& t : ear_clip_triangulate(c, holes)) {
     TriangleMesh& mesh = meshes[mesh_of_object[object_of_face[t.face]]];
-    const auto cycle = c.face_cycle(t.face);
     for (std::uint32_t v : t.v) {
-      const auto at = std::find(cycle.begin(), cycle.end(), v);
-      if (at == cycle.end()) throw InputError("triangulation names a vertex outside its face");
-      mesh.triangles.push_back(first_corner[t.face] +
-                               static_cast<std::uint32_t>(at - cycle.begin()));
+      std::uint32_t corner = 0;
+      bool found = false;
+      const auto find_in = [&](std::uint32_t f) {
+        const auto cycle = c.face_cycle(f);
+        const auto at = std::find(cycle.begin(), cycle.end(), v);
+        if (at == cycle.end()) return false;
+        corner = first_corner[f] + static_cast<std::uint32_t>(at - cycle.begin());
+        return true;
+      };
+      found = find_in(t.face);
+      for (std::size_t h = 0; !found && h < holes[t.face].size(); ++h)
+        found = find_in(holes[t.face][h]);
+      if (!found) throw InputError("triangulation names a vertex outside its face");
+      mesh.triangles.push_back(corner);
     }
   }
   return meshes;

@@ -27,11 +27,9 @@ using TriMesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
 
 using detail::MuteOpenMesh;
 
-// Linear [0, 1] -> 8-bit sRGB (PLY viewers show the bytes as they are).
-unsigned char srgb8(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  const float s = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-  return static_cast<unsigned char>(std::lround(s * 255.0f));
+// A stored color component in [0, 1] (already sRGB-encoded) as a byte.
+unsigned char byte(float c) {
+  return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255.0f));
 }
 
 void require_triangles(const std::vector<TriangleMesh>& meshes, const char* format) {
@@ -40,8 +38,8 @@ void require_triangles(const std::vector<TriangleMesh>& meshes, const char* form
   throw InputError(std::string(format) + ": nothing to write (no triangles)");
 }
 
-std::string write_to_string(const TriMesh& mesh, const std::string& ext,
-                            OpenMesh::IO::Options opt, const std::string& path) {
+std::string write_to_string(const TriMesh& mesh, const std::string& ext, OpenMesh::IO::Options opt,
+                            const std::string& path) {
   MuteOpenMesh mute;
   std::ostringstream out(std::ios::binary);
   if (!OpenMesh::IO::write_mesh(mesh, out, ext, opt))
@@ -64,14 +62,13 @@ void write_ply_file(const std::string& path, const std::vector<TriangleMesh>& me
     for (std::size_t v = 0; v < m.vertex_count(); ++v) {
       TriMesh::Color col = grey;
       if (m.color.cols() > 0)
-        col = TriMesh::Color(srgb8(m.color(0, v)), srgb8(m.color(1, v)), srgb8(m.color(2, v)),
-                             static_cast<unsigned char>(std::lround(
-                                 std::clamp(m.color(3, v), 0.0f, 1.0f) * 255.0f)));
+        col = TriMesh::Color(byte(m.color(0, v)), byte(m.color(1, v)), byte(m.color(2, v)),
+                             byte(m.color(3, v)));
       const Key key{m.object, m.section_vertex[v], {col[0], col[1], col[2], col[3]}};
       auto [it, fresh] = welded.try_emplace(key);
       if (fresh) {
-        it->second = mesh.add_vertex(
-            TriMesh::Point(m.position(0, v), m.position(1, v), m.position(2, v)));
+        it->second =
+            mesh.add_vertex(TriMesh::Point(m.position(0, v), m.position(1, v), m.position(2, v)));
         mesh.set_color(it->second, col);
       }
       handle[v] = it->second;
@@ -105,8 +102,8 @@ void write_stl_file(const std::string& path, const std::vector<TriangleMesh>& me
       std::array<TriMesh::VertexHandle, 3> h;
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = m.triangles[3 * t + k];
-        h[k] = mesh.add_vertex(
-            TriMesh::Point(m.position(0, v), m.position(1, v), m.position(2, v)));
+        h[k] =
+            mesh.add_vertex(TriMesh::Point(m.position(0, v), m.position(1, v), m.position(2, v)));
       }
       const auto f = mesh.add_face(h[0], h[1], h[2]);
       const std::uint32_t v0 = m.triangles[3 * t];

@@ -9,6 +9,7 @@
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/section/triangulate.hpp"
 
 namespace cw4d {
 
@@ -49,8 +50,12 @@ Materials materials(const Complex& c) {
 }
 
 // group_of_face: a label per face ("cell_3"); a new `g` line starts where the label changes.
+// holes: per face, the faces that are holes in it (section_holes); empty for none. A face with
+// holes is written as the triangles of ear_clip_triangulate (OBJ polygons have no holes), and
+// the hole faces themselves are not written.
 std::string write(const Complex& c, const std::vector<std::string>* group_of_face,
-                  const ObjOptions& opt) {
+                  const ObjOptions& opt,
+                  const std::vector<std::vector<std::uint32_t>>& holes = {}) {
   const int dim = c.ambient_dim();
   if (dim != 2 && dim != 3)
     throw InputError("OBJ holds 3D geometry; this complex lives in R^" + std::to_string(dim) +
@@ -108,7 +113,26 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
     if (uvw) out += '/' + std::to_string(opt.uvw->offset[f] + j + 1);
     if (normals) out += (uvw ? "/" : "//") + std::to_string(f + 1);
   };
+  // Faces written as triangles: all with --triangulate, else those with holes.
+  std::vector<bool> is_hole(nf, false), as_triangles(nf, opt.triangulate);
+  bool any_holes = false;
+  for (std::uint32_t f = 0; f < holes.size(); ++f)
+    for (std::uint32_t h : holes[f]) is_hole[h] = as_triangles[f] = any_holes = true;
+  std::vector<std::vector<Triangle>> triangles_of(nf);
+  if (opt.triangulate || any_holes)
+    for (const Triangle& t : ear_clip_triangulate(c, holes)) triangles_of[t.face].push_back(t);
+  // The corner of triangle vertex v: in face f, else in one of its holes.
+  auto triangle_corner = [&](std::uint32_t v, std::uint32_t f) {
+    for (std::size_t k = 0; k <= (holes.empty() ? 0 : holes[f].size()); ++k) {
+      const std::uint32_t g = k == 0 ? f : holes[f][k - 1];
+      const auto cyc = c.face_cycle(g);
+      const auto at = std::find(cyc.begin(), cyc.end(), v);
+      if (at != cyc.end()) return corner(v, g, static_cast<std::size_t>(at - cyc.begin()));
+    }
+    throw InputError("OBJ: a triangle names a vertex outside its face");
+  };
   for (std::uint32_t f = 0; f < nf; ++f) {
+    if (is_hole[f]) continue;
     if (group_of_face && opt.group_by_source &&
         (!current_group || (*group_of_face)[f] != *current_group)) {
       current_group = &(*group_of_face)[f];
@@ -120,12 +144,10 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
       out += "usemtl color_" + std::to_string(current_material) + "\n";
     }
     const auto cyc = c.face_cycle(f);
-    if (opt.triangulate) {
-      for (std::size_t k = 1; k + 1 < cyc.size(); ++k) {
+    if (as_triangles[f]) {
+      for (const Triangle& t : triangles_of[f]) {
         out += 'f';
-        corner(cyc[0], f, 0);
-        corner(cyc[k], f, k);
-        corner(cyc[k + 1], f, k + 1);
+        for (std::uint32_t v : t.v) triangle_corner(v, f);
         out += '\n';
       }
     } else {
@@ -153,7 +175,7 @@ std::string obj_text(const Section& section, const ObjOptions& options) {
   for (std::uint32_t f = 0; f < nf; ++f)
     groups[f] = (objects ? "object_" + std::to_string(section.object_of_face[f]) + "_" : "") +
                 "cell_" + std::to_string(section.source[2][f]);
-  return write(section.complex, &groups, options);
+  return write(section.complex, &groups, options, section_holes(section));
 }
 
 std::string mtl_text(const Complex& complex) {

@@ -8,6 +8,22 @@
 
 namespace cw4d {
 
+double plane_value(const Eigen::VectorXd& n, double d, const double* x) {
+  // Dot2 (Ogita, Rump, Oishi 2005): p + c is the sum of the exact products and -d, c collecting
+  // the rounding errors of every product (fma) and every addition (TwoSum).
+  double p = -d, c = 0.0;
+  for (Eigen::Index i = 0; i < n.size(); ++i) {
+    const double h = n[i] * x[i];
+    const double r = std::fma(n[i], x[i], -h);  // exact: n_i x_i = h + r
+    const double sum = p + h;
+    const double z = sum - p;
+    const double e = (p - (sum - z)) + (h - z);  // exact: p + h = sum + e
+    p = sum;
+    c += e + r;
+  }
+  return p + c;
+}
+
 Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
   if (n.size() < 1 || !n.allFinite()) throw InputError("hyperplane normal is not finite");
   const double len = n.norm();

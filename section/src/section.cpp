@@ -52,6 +52,27 @@ void combine(std::vector<Term>& chain) {
   chain.resize(out);
 }
 
+// The order of points along the line they lie on, deterministically: the points are projected
+// on the direction from the first point to the farthest one and sorted by that coordinate, ties
+// (coincident projections) broken by the points' order in the input, which is the order of
+// their ids in the combined chain. Returns the permutation.
+template <class At>
+std::vector<std::size_t> order_along_line(std::size_t n, At at) {
+  std::size_t far = 0;
+  double best = -1.0;
+  for (std::size_t i = 1; i < n; ++i) {
+    const double d = (at(i) - at(0)).squaredNorm();
+    if (d > best) best = d, far = i;
+  }
+  const Eigen::VectorXd dir = at(far) - at(0);
+  std::vector<double> key(n);
+  for (std::size_t i = 0; i < n; ++i) key[i] = (at(i) - at(0)).dot(dir);
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  return order;
+}
+
 struct CutResult {
   Section section;
   Eigen::MatrixXd model_positions;  // n x V: section vertices in model space
@@ -198,27 +219,32 @@ void Cutter::emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vec
     make_edge(first_is_tail ? chain[0].id : chain[1].id, first_is_tail ? chain[1].id : chain[0].id);
     return;
   }
-  // A non-convex face cut in more than two points: pair the points along the cut line
-  // (even-odd), each segment running from its -1 end to its +1 end.
-  std::vector<Term> pts;
-  for (const Term& t : chain)
-    for (int i = 0; i < std::abs(t.coef); ++i) pts.push_back({t.id, t.coef > 0 ? 1 : -1});
+  // A non-convex (or self-intersecting) face cut in more than two points. The chain is the
+  // boundary of the face's cut, a 1-chain on the cut line: sorted along the line, the segment
+  // between consecutive points p_i, p_{i+1} carries the multiplicity w_i = -(c_0 + ... + c_i)
+  // (c the points' coefficients), the face's winding number there. For a simple non-convex
+  // face that is the even-odd pairing (w alternates 1, 0, 1, ...); a star face such as a
+  // pentagram gives w = 2 in its core. The order along the line is decided by order_along_line.
+  struct Point {
+    std::uint32_t id;
+    int coef;
+  };
+  std::vector<Point> pts;
+  for (const Term& t : chain) pts.push_back({t.id, t.coef});
   if (pts.size() < 2) return;
   auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::VectorXd>(&pos_[v * n_], n_); };
-  std::size_t far = 1;
-  double best = -1.0;
-  for (std::size_t i = 1; i < pts.size(); ++i) {
-    const double d = (at(pts[i].id) - at(pts[0].id)).squaredNorm();
-    if (d > best) best = d, far = i;
-  }
-  const Eigen::VectorXd dir = at(pts[far].id) - at(pts[0].id);
-  std::stable_sort(pts.begin(), pts.end(), [&](const Term& a, const Term& b) {
-    return at(a.id).dot(dir) < at(b.id).dot(dir);
+  const std::vector<std::size_t> order = order_along_line(pts.size(), [&](std::size_t i) {
+    return at(pts[i].id);
   });
-  for (std::size_t i = 0; i + 1 < pts.size(); i += 2) {
-    if (pts[i].id == pts[i + 1].id) continue;
-    const bool first_is_tail = pts[i].coef < 0;
-    make_edge(first_is_tail ? pts[i].id : pts[i + 1].id, first_is_tail ? pts[i + 1].id : pts[i].id);
+  int running = 0;
+  for (std::size_t k = 0; k + 1 < order.size(); ++k) {
+    running += pts[order[k]].coef;
+    const int w = -running;
+    const std::uint32_t a = pts[order[k]].id, b = pts[order[k + 1]].id;
+    if (w == 0 || a == b || at(a) == at(b)) continue;  // outside the face, or a point
+    const std::size_t before = image.size();
+    make_edge(a, b);  // directed along the line; the multiplicity and direction go in the sign
+    image[before].coef *= w;
   }
 }
 
@@ -403,7 +429,7 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   double max_norm2 = 0.0;
   for (std::size_t v = 0; v < nv; ++v) {
     const auto x = p.col(static_cast<Eigen::Index>(v));
-    s[v] = nm.dot(x) - dm;
+    s[v] = plane_value(nm, dm, x.data());
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
   const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
@@ -467,6 +493,7 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
     }
     sec.complex.set_facet_normals(std::move(normals));
   }
+  sec.self_intersecting = self_intersects(sec.complex);
   return sec;
 }
 

@@ -11,7 +11,7 @@ if (!modules || files.length === 0) {
   console.error('usage: node validate_gltf.cjs NODE_MODULES_DIR FILE...');
   process.exit(2);
 }
-const validator = require(path.join(modules, 'gltf-validator'));
+const validator = require(path.resolve(modules, 'gltf-validator'));
 
 async function check(file) {
   const bytes = new Uint8Array(fs.readFileSync(file));

@@ -17,9 +17,11 @@ struct FileContent {
   std::string_view content;
 };
 
-/// Writes the files in the order given, each through write_file_atomically; when one fails, the
-/// ones this call already wrote are removed again, so the group is written whole or not at all
-/// (write companions first and the file that refers to them last).
+/// Writes every file to a temporary first, then renames them over their paths in the order given
+/// (put companions first and the file that refers to them last). A failure while writing (a full
+/// disk, a missing directory, a path that is a directory) leaves every previous file untouched
+/// and no temporary behind; only a failing rename, after the earlier ones, can leave the group
+/// mixed.
 /// \throw IoError from the first failure.
 void write_files_atomically(const std::vector<FileContent>& files);
 

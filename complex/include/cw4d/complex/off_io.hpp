@@ -8,19 +8,37 @@
 //                             numbers, 0..1 floats or 0..255 integers)
 //   k f0 f1 ... [color]       cells as lists of face indices (then higher ranks likewise)
 // '#' starts a comment. The edge count is informational: edges are built from the face cycles.
+#include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "cw4d/complex/complex.hpp"
 
 namespace cw4d {
 
+/// Where the elements of a complex read from nOFF text are, so that a validation issue (rank,
+/// id) can be reported as file:line. lines[k][i] is the 1-based line of element i of rank k:
+/// vertices, faces, cells and higher ranks at their own lines; an edge (not listed in nOFF) at
+/// the line of the face it first appears in, which is how build_complex numbers edges.
+struct OffLines {
+  std::vector<std::vector<std::size_t>> lines;
+  /// 0 when the element is unknown.
+  std::size_t line_of(int rank, std::uint32_t id) const {
+    if (rank < 0 || static_cast<std::size_t>(rank) >= lines.size()) return 0;
+    return id < lines[rank].size() ? lines[rank][id] : 0;
+  }
+};
+
 /// Reads a complex from a stream; `name` is used in error messages ("name:line: ...").
 /// The result is built with build_complex (oriented, with facet normals) but not validated.
+/// When `lines` is given it receives the line of every element.
+/// Counts in the header never drive allocation before the data is seen to exist.
 /// \throw ParseError with the line of the first problem.
-Complex read_off(std::istream& in, const std::string& name);
-/// Reads a file. \throw ParseError (line 0 when it cannot be opened).
-Complex read_off_file(const std::string& path);
+Complex read_off(std::istream& in, const std::string& name, OffLines* lines = nullptr);
+/// Reads a regular file of at most max_input_file_bytes (input_file.hpp).
+/// \throw ParseError (line 0 when it cannot be opened or is not a regular file).
+Complex read_off_file(const std::string& path, OffLines* lines = nullptr);
 
 /// Writes a complex (ranks 0 .. ambient_dim - 1) as nOFF ("OFF" for 3D, "4OFF" for 4D), with
 /// full double precision and the colors of faces and higher ranks when present.

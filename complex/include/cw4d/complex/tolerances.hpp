@@ -15,6 +15,11 @@ inline constexpr double plane_side_ulps = 64.0;
 /// near-duplicate vertices; the collapsed pieces cancel as chains.
 inline constexpr double weld_rel = 1e-9;
 
+/// Self-intersection test of a section (cw4d::self_intersects): a boundary edge pierces another
+/// face only when its ends lie farther than self_intersection_rel * (bounding-box diagonal) on
+/// both sides of that face's plane, so faces that merely touch are not reported.
+inline constexpr double self_intersection_rel = 1e-9;
+
 /// A facet is planar when every vertex lies within planarity_rel * (facet diameter) of the
 /// facet's best-fit hyperplane (validate()).
 inline constexpr double planarity_rel = 1e-6;

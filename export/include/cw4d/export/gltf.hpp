@@ -3,8 +3,10 @@
 //
 // Every TriangleMesh becomes a mesh with one triangle primitive carrying
 //   POSITION, NORMAL           float vec3 (section coordinates: the hyperplane's basis, as is)
-//   COLOR_0                    float vec4, linear RGBA of the source cell (when colored)
-//   TEXCOORD_0                 float vec2, the u, v of the UVW (when the mesh has UVW)
+//   COLOR_0                    float vec4, the source cell's color converted from sRGB to the
+//                              linear values glTF requires, alpha as is (when colored)
+//   TEXCOORD_0                 float vec2, (u, 1 - v) of the UVW: glTF's image origin is the
+//                              top-left corner, so an image lands as it does with OBJ's `vt`
 //   _UVW                       float vec3, the full u, v, w (when the mesh has UVW)
 //   _CELL_ID                   float scalar, the source cell id (exact up to 2^24 cells)
 // and one matte material (alphaMode BLEND when some color has alpha < 1). Each node of the

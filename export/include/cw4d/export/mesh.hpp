@@ -24,7 +24,8 @@ struct TriangleMesh {
   Eigen::Matrix3Xf position;
   /// Unit outward normals (the polygon's).
   Eigen::Matrix3Xf normal;
-  /// Linear RGBA in [0, 1]; no columns when the section's faces have no colors.
+  /// RGBA in [0, 1] as the complex stores colors (r, g, b sRGB-encoded, like hex colors; alpha
+  /// linear); no columns when the section's faces have no colors.
   Eigen::Matrix4Xf color;
   /// Texture coordinates u, v, w; no columns when none were asked for.
   Eigen::Matrix3Xf uvw;

@@ -11,7 +11,9 @@
 namespace cw4d {
 
 struct ObjOptions {
-  /// Fan-triangulate the (convex) polygons instead of writing them whole.
+  /// Triangulate the polygons (ear clipping, so non-convex ones too) instead of writing them
+  /// whole. Polygons with holes (a section's loops inside another loop of the same cell) are
+  /// always written as triangles, since OBJ polygons cannot have holes.
   bool triangulate = false;
   /// One `g` group per source cell (needs the section's provenance).
   bool group_by_source = true;

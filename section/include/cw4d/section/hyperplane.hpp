@@ -22,8 +22,32 @@ struct Hyperplane {
 
 enum class Side : std::int8_t { Negative = -1, On = 0, Positive = 1 };
 
+/// n.x - d evaluated so that the result is the same on every machine and compiler: products are
+/// split exactly with fma (TwoProduct), summed left to right with TwoSum error terms carried
+/// (Ogita-Rump-Oishi Dot2), so the value is as accurate as a computation in twice the working
+/// precision and its rounding never depends on vectorisation or FMA contraction (section/ is
+/// also compiled with -ffp-contract=off). \pre n.size() == x.size().
+double plane_value(const Eigen::VectorXd& n, double d, const double* x);
+
 /// The single decision of which side of a plane a point lies on: On when
 /// |signed_distance| <= tolerance. Every topological branch of the section uses this answer.
+///
+/// How the section's topological decisions are made (the same answer for the same input on
+/// every machine):
+///  - side of the plane: s = plane_value(...) (deterministic, near-exact), then this function
+///    with the tolerance of tolerances.hpp (plane_side_ulps), itself computed deterministically.
+///    Outside the ON band the sign of s is the sign of the exact n.x - d for the given doubles
+///    (the band exceeds the evaluation error). Inside it the vertex is ON, and ON vertices are
+///    resolved by symbolic perturbation: they count as Positive, i.e. the plane is moved by
+///    -epsilon along n (the limit of generic planes), and only when that leaves no section at
+///    all, as Negative (+epsilon), so a plane containing a facet returns that facet.
+///  - which cut points of a face pair up: the face's boundary chain on the cut line, ordered
+///    along the line (stable sort by projection, ties in id order) and weighted by the running
+///    winding number (section.cpp, emit_edges): purely a function of the decisions above and of
+///    the double coordinates, with no tolerance.
+///  - loop orientation: a loop's orientation is inherited from the signed boundary algebra (the
+///    signs of the model's incidences), never measured; only the triangulation's hole
+///    assignment measures areas (triangulate.hpp).
 inline Side classify_side(double signed_distance, double tolerance) {
   if (signed_distance > tolerance) return Side::Positive;
   if (signed_distance < -tolerance) return Side::Negative;

@@ -32,6 +32,12 @@ struct Section {
   /// model the ids in `source` refer to. Empty for the section of a single model.
   std::vector<std::uint32_t> object_of_face;
 
+  /// Set by section() for a 3D section that is not an embedded surface (self_intersects):
+  /// the cut of a star polychoron or of self-intersecting cells. The faces are still right as
+  /// chains (their sum is the section, volumes count with winding numbers): a polygon soup for
+  /// the non-zero winding rule, reported instead of rejected.
+  bool self_intersecting = false;
+
   bool empty() const { return complex.count(0) == 0; }
   /// World-space position of section vertex v (on the hyperplane).
   Eigen::VectorXd world_position(std::uint32_t v) const {
@@ -50,5 +56,11 @@ struct Section {
 Section section(const Complex& model, const Hyperplane& plane,
                 const AffineTransform& model_to_world);
 Section section(const Complex& model, const Hyperplane& plane);
+
+/// Whether a closed polygon surface in R^3 is not embedded: a face that is not a simple polygon
+/// (is_simple_face), or a boundary edge of one face passing through the interior of another
+/// face it shares no vertex with (beyond tol::self_intersection_rel). Faces sharing a vertex
+/// are not compared. False for complexes of other dimensions.
+bool self_intersects(const Complex& surface);
 
 }  // namespace cw4d

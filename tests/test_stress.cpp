@@ -1,0 +1,282 @@
+// Degeneracy stress test: every 4D built-in family and every convex Miratope file, cut by
+// >= 10^4 planes per degenerate family (through a vertex, containing an edge, a face, a cell,
+// and planes snapped to a coarse grid). Every section must be closed and outward (validate),
+// without duplicate vertices or zero-area polygons, and its volume must be continuous with the
+// sections of the nearby generic planes d - delta and d + delta (the independent oracle here:
+// the model's volume function, sampled off the degenerate plane). One CTest case per family, so
+// `ctest -j2` runs them in parallel; each prints its counts.
+//
+// CW4D_STRESS_FRACTION (a number in (0, 1], default 1) scales the plane counts down, for the
+// sanitizer build where every section costs ten times more; the >= 10^4 requirement is checked
+// only at the full count.
+#include <catch2/catch.hpp>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/operators.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "cw4d/section/section.hpp"
+#include "support/registration.hpp"
+
+using namespace cw4d;
+
+namespace {
+
+struct Model {
+  std::string name;
+  Complex complex;
+  double scale;       // diameter
+  std::size_t elements;
+  bool convex;
+};
+
+// Every 4D family of the registry (one or two members each) and every convex Miratope file.
+const std::vector<Model>& models() {
+  static const std::vector<Model> all = [] {
+    test::register_optional_models();
+    const std::string data = CW4D_TEST_DATA_DIR;
+    std::vector<std::string> specs = {
+        "5-cell", "tesseract", "16-cell", "24-cell", "120-cell", "600-cell", "rectified 5-cell",
+        "truncated tesseract", "cantellated 5-cell", "bitruncated 5-cell", "simplex:4", "cube:4",
+        "orthoplex:4", "duoprism:5,7", "duoprism:3,12", "prism:5-cell", "prism:antiprism:5",
+        "product:polygon:5*polygon:8", "pyramid:cube:3", "cone:sphere:1,8", "dual:24-cell",
+        "duocylinder:1,12", "cubinder:1,8", "spherinder:1,8", "wythoff:x3x3x3x", "wythoff:x4o3x3o",
+        "snub 24-cell", "grand antiprism", "glome:1,3", "extrude:" + data + "/cube.obj",
+        "spin:" + data + "/offset_cube.off,12", "hull:" + data + "/cube_points.txt",
+        "spheritorus:2,0.7,8", "torisphere:2,0.7,8", "ditorus:3,1.2,0.5,8", "tiger:2,2,0.7,8"};
+    std::vector<Model> m;
+    auto add = [&](const std::string& name, Complex c) {
+      if (c.ambient_dim() != 4) return;
+      std::size_t elements = 0;
+      for (int k = 0; k <= c.top_rank(); ++k) elements += c.count(k);
+      const double scale = 2.0 * max_radius(c);
+      const bool convex = is_convex(c);
+      m.push_back({name, std::move(c), scale, elements, convex});
+    };
+    for (const auto& spec : specs) add(spec, load_model(spec));
+    const std::string dir = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/";
+    for (const char* name : {"Pentachoron", "Tesseract", "Hexadecachoron", "Icositetrachoron",
+                             "Hecatonicosachoron", "Hexacosichoron"})
+      add(std::string("regular/") + name, read_off_file(dir + "regular/" + name + ".off"));
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir + "convex uniform"))
+      if (e.path().extension() == ".off") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files)
+      add(std::filesystem::path(f).filename().string(), read_off_file(f));
+    return m;
+  }();
+  return all;
+}
+
+double fraction() {
+  const char* env = std::getenv("CW4D_STRESS_FRACTION");
+  if (!env) return 1.0;
+  const double f = std::atof(env);
+  return f > 0.0 && f <= 1.0 ? f : 1.0;
+}
+
+// Planes per model: cheap models get many, the 10^4-element ones a few dozen.
+int planes_for(const Model& m) {
+  const double n = std::clamp(2.0e5 / static_cast<double>(m.elements), 12.0, 240.0);
+  return std::max(1, static_cast<int>(n * fraction()));
+}
+
+Eigen::VectorXd random_unit(std::mt19937& rng, int n) {
+  std::normal_distribution<double> g;
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v(i) = g(rng);
+  return v.normalized();
+}
+
+// A random unit vector orthogonal to the span of `dirs` (rounding noise of file coordinates
+// ignored).
+Eigen::VectorXd random_orthogonal(std::mt19937& rng, const Eigen::MatrixXd& dirs) {
+  Eigen::VectorXd v = random_unit(rng, static_cast<int>(dirs.rows()));
+  if (dirs.cols() > 0) {
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(dirs, Eigen::ComputeFullU);
+    const auto& sv = svd.singularValues();
+    Eigen::Index rank = 0;
+    while (rank < sv.size() && sv(rank) > 1e-6 * sv(0)) ++rank;
+    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
+    v -= basis * (basis.transpose() * v);
+  }
+  return v.normalized();
+}
+
+Eigen::MatrixXd spanning(const Complex& c, int rank, std::uint32_t i) {
+  const auto verts = c.vertices_of(rank, i);
+  Eigen::MatrixXd d(c.ambient_dim(), verts.size() - 1);
+  for (std::size_t k = 1; k < verts.size(); ++k)
+    d.col(static_cast<Eigen::Index>(k - 1)) = c.position(verts[k]) - c.position(verts[0]);
+  return d;
+}
+
+enum class Family { vertex = 0, edge = 1, face = 2, cell = 3, grid = 4 };
+
+struct Counts {
+  long planes = 0, empty = 0, sections = 0, vertices = 0, faces = 0;
+};
+
+double volume_at(const Complex& c, const Eigen::VectorXd& u, double d) {
+  const Section s = section(c, Hyperplane{u, d});
+  return s.empty() ? 0.0 : signed_volume(s.complex);
+}
+
+// The properties of one degenerate section; returns false (after reporting) on the first
+// violation so a failing family names its plane.
+void check(const Model& m, const Hyperplane& plane, const std::string& what, Counts& counts) {
+  const Complex& c = m.complex;
+  const double scale = m.scale;
+  const Section s = section(c, plane);
+  ++counts.planes;
+  const double delta = 1e-7 * scale;
+  const double vm = volume_at(c, plane.normal, plane.offset - delta);
+  const double vp = volume_at(c, plane.normal, plane.offset + delta);
+  // dV/dd stays below ~ 10 scale^2 for these models, so the jump over delta is tiny unless the
+  // section is discontinuous (a dropped or doubled face changes it by a face's share).
+  const double jump_tol = 1e-5 * std::pow(scale, 3);
+  if (s.empty()) {
+    ++counts.empty;
+    if (std::min(std::abs(vm), std::abs(vp)) > jump_tol) {
+      FAIL_CHECK(m.name << ": empty section where a nearby plane is not, " << what
+                        << " volumes " << vm << ", " << vp);
+    }
+    return;
+  }
+  ++counts.sections;
+  const Complex& sc = s.complex;
+  counts.vertices += static_cast<long>(sc.count(0));
+  counts.faces += static_cast<long>(sc.count(2));
+  // A convex model's sections are closed 2-manifolds. A non-convex model's degenerate sections
+  // may pinch: a plane containing a reflex edge meets two sheets that touch along one section
+  // edge (four faces on it, the limit of the generic sections on either side), so there the
+  // surface is checked as a chain: every edge's signed face incidences cancel.
+  ValidateOptions options;
+  options.require_closed = m.convex;
+  const ValidationReport report = validate(sc, options);
+  if (!report.ok()) {
+    FAIL_CHECK(m.name << ": " << what << ": " << report.summary());
+    return;
+  }
+  if (!m.convex) {
+    std::vector<int> sum(sc.count(1), 0);
+    const Incidence& faces = sc.boundary(2);
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      auto ids = faces.ids(f);
+      auto signs = faces.signs(f);
+      for (std::size_t i = 0; i < ids.size(); ++i) sum[ids[i]] += signs[i];
+    }
+    for (std::size_t e = 0; e < sum.size(); ++e)
+      if (sum[e] != 0) FAIL_CHECK(m.name << ": " << what << ": edge " << e << " is a boundary");
+  }
+  const double volume = signed_volume(sc);
+  if (!(volume > 0.0)) FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " not outward");
+  // Continuity with the nearby generic planes on at least one side: a plane holding a whole
+  // facet is the limit from inside (the outside neighbour is empty).
+  // Near-parallel planes make V steep (dV/dd ~ 10^3): then V lies between its neighbours.
+  const double jump = std::min(std::abs(volume - vm), std::abs(volume - vp));
+  const double slack = jump_tol + 1e-6 * volume;
+  const bool between = std::min(vm, vp) - slack <= volume && volume <= std::max(vm, vp) + slack;
+  if (jump > slack && !between)
+    FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " jumps to " << vm << " / "
+                      << vp << " at distance " << delta);
+  // No duplicate vertices: sweep along x.
+  const Eigen::MatrixXd& p = sc.positions();
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(p.cols()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return p(0, a) < p(0, b); });
+  const double dup = 1e-11 * scale;
+  for (std::size_t i = 0; i < order.size(); ++i)
+    for (std::size_t j = i + 1; j < order.size() && p(0, order[j]) - p(0, order[i]) <= dup; ++j)
+      if ((p.col(order[i]) - p.col(order[j])).norm() <= dup)
+        FAIL_CHECK(m.name << ": " << what << ": vertices " << order[i] << " and " << order[j]
+                          << " coincide");
+  // No zero-area polygons.
+  for (std::uint32_t f = 0; f < sc.count(2); ++f)
+    if (!(facet_area_vector(sc, f).norm() > 1e-20 * scale * scale))
+      FAIL_CHECK(m.name << ": " << what << ": face " << f << " has zero area");
+}
+
+std::string describe(const Hyperplane& p) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "n = (" << p.normal.transpose() << "), d = " << p.offset;
+  return out.str();
+}
+
+void run_family(Family family, std::uint32_t seed, const char* label) {
+  std::mt19937 rng(seed);
+  Counts counts;
+  for (const Model& m : models()) {
+    const Complex& c = m.complex;
+    const int planes = planes_for(m);
+    if (family == Family::grid) {
+      // Normals with small integer entries, offsets on a grid of scale / 16: in the models'
+      // own coordinates (integers, halves, golden-ratio multiples) these hit vertices, edges
+      // and faces, often several at once.
+      std::uniform_int_distribution<int> entry(-2, 2), step(-8, 8);
+      for (int t = 0; t < planes; ++t) {
+        Eigen::VectorXd nrm(4);
+        do {
+          for (int i = 0; i < 4; ++i) nrm(i) = entry(rng);
+        } while (nrm.isZero());
+        const double len = nrm.norm();
+        const double d = step(rng) * (m.scale / 16.0);
+        const Hyperplane plane{nrm / len, d / len};
+        check(m, plane, "grid plane " + describe(plane), counts);
+      }
+      continue;
+    }
+    const int rank = static_cast<int>(family);
+    for (int t = 0; t < planes; ++t) {
+      const auto id = std::uniform_int_distribution<std::uint32_t>(
+          0, static_cast<std::uint32_t>(c.count(rank) - 1))(rng);
+      Eigen::VectorXd u;
+      if (family == Family::cell) {
+        // The cell's own hyperplane, approached from either side.
+        u = c.facet_normals().col(id) * (t % 2 == 0 ? 1.0 : -1.0);
+      } else {
+        const Eigen::MatrixXd dirs = rank == 0 ? Eigen::MatrixXd(4, 0) : spanning(c, rank, id);
+        u = random_orthogonal(rng, dirs);
+      }
+      const double d = u.dot(c.position(c.first_vertex(rank, id)));
+      const Hyperplane plane{u, d};
+      check(m, plane,
+            std::string(label) + " element " + std::to_string(id) + ", " + describe(plane), counts);
+    }
+  }
+  std::cout << "stress[" << label << "]: " << counts.planes << " planes over " << models().size()
+            << " models: " << counts.sections << " sections (" << counts.vertices << " vertices, "
+            << counts.faces << " faces checked), " << counts.empty << " empty\n";
+  if (fraction() == 1.0) CHECK(counts.planes >= 10000);
+}
+
+}  // namespace
+
+TEST_CASE("stress: the models load and are valid closed complexes", "[stress]") {
+  CHECK(models().size() >= 80);
+  for (const Model& m : models()) {
+    INFO(m.name);
+    CHECK(validate(m.complex).ok());
+  }
+}
+
+TEST_CASE("stress: planes through a vertex", "[stress]") { run_family(Family::vertex, 701, "vertex"); }
+TEST_CASE("stress: planes containing an edge", "[stress]") { run_family(Family::edge, 702, "edge"); }
+TEST_CASE("stress: planes containing a face", "[stress]") { run_family(Family::face, 703, "face"); }
+TEST_CASE("stress: planes containing a cell", "[stress]") { run_family(Family::cell, 704, "cell"); }
+TEST_CASE("stress: grid-snapped planes", "[stress]") { run_family(Family::grid, 705, "grid"); }
