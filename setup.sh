@@ -61,6 +61,9 @@ case "$#" in
 esac
 
 cd "$(dirname "${BASH_SOURCE[0]}")"
+# ccache (when installed) keys objects by paths relative to the checkout, so a fresh clone in
+# another folder reuses what an earlier build on this machine compiled.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 JOBS="${CW4D_JOBS:-2}"
 BUILD_DIR="${CW4D_BUILD_DIR:-build}"
 [[ "$JOBS" =~ ^[1-9][0-9]*$ ]] || die "CW4D_JOBS must be a positive integer, got '$JOBS'"

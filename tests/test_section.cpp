@@ -19,10 +19,14 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
+#include "support/planes.hpp"
 #include "support/oracle.hpp"
 #include "support/registration.hpp"
 
 using namespace cw4d;
+using cw4d::test::random_orthogonal;
+using cw4d::test::random_unit;
+using cw4d::test::spanning;
 
 namespace {
 
@@ -59,13 +63,6 @@ const std::vector<Shape>& shapes_other_dims() {
     return s;
   }();
   return shapes;
-}
-
-Eigen::VectorXd random_unit(std::mt19937& rng, int n) {
-  std::normal_distribution<double> g;
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i) v(i) = g(rng);
-  return v.normalized();
 }
 
 // Range of u . x over the model's vertices.
@@ -236,30 +233,6 @@ TEST_CASE("section: cubes of dimension 3 to 6 against the closed form") {
 // --- degenerate families: each pins planes that pass through lower-dimensional elements ----
 
 namespace {
-
-// A random unit vector orthogonal to the given directions (columns).
-Eigen::VectorXd random_orthogonal(std::mt19937& rng, const Eigen::MatrixXd& dirs) {
-  const int n = static_cast<int>(dirs.rows());
-  Eigen::VectorXd v = random_unit(rng, n);
-  if (dirs.cols() > 0) {
-    // The span of the directions, ignoring the rounding noise of coordinates read from files.
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(dirs, Eigen::ComputeFullU);
-    const auto& sv = svd.singularValues();
-    Eigen::Index rank = 0;
-    while (rank < sv.size() && sv(rank) > 1e-6 * sv(0)) ++rank;
-    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
-    v -= basis * (basis.transpose() * v);
-  }
-  return v.normalized();
-}
-
-// Directions spanned by element i of a rank (differences of its vertices).
-Eigen::MatrixXd spanning(const Complex& c, int rank, std::uint32_t i) {
-  const auto verts = c.vertices_of(rank, i);
-  Eigen::MatrixXd d(c.ambient_dim(), verts.size() - 1);
-  for (std::size_t k = 1; k < verts.size(); ++k) d.col(k - 1) = c.position(verts[k]) - c.position(verts[0]);
-  return d;
-}
 
 void degenerate_family(int rank, int trials_per_shape, std::uint32_t seed) {
   std::mt19937 rng(seed);

@@ -29,9 +29,13 @@
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
+#include "support/planes.hpp"
 #include "support/registration.hpp"
 
 using namespace cw4d;
+using cw4d::test::random_orthogonal;
+using cw4d::test::random_unit;
+using cw4d::test::spanning;
 
 namespace {
 
@@ -93,36 +97,6 @@ double fraction() {
 int planes_for(const Model& m) {
   const double n = std::clamp(2.0e5 / static_cast<double>(m.elements), 12.0, 240.0);
   return std::max(1, static_cast<int>(n * fraction()));
-}
-
-Eigen::VectorXd random_unit(std::mt19937& rng, int n) {
-  std::normal_distribution<double> g;
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i) v(i) = g(rng);
-  return v.normalized();
-}
-
-// A random unit vector orthogonal to the span of `dirs` (rounding noise of file coordinates
-// ignored).
-Eigen::VectorXd random_orthogonal(std::mt19937& rng, const Eigen::MatrixXd& dirs) {
-  Eigen::VectorXd v = random_unit(rng, static_cast<int>(dirs.rows()));
-  if (dirs.cols() > 0) {
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(dirs, Eigen::ComputeFullU);
-    const auto& sv = svd.singularValues();
-    Eigen::Index rank = 0;
-    while (rank < sv.size() && sv(rank) > 1e-6 * sv(0)) ++rank;
-    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
-    v -= basis * (basis.transpose() * v);
-  }
-  return v.normalized();
-}
-
-Eigen::MatrixXd spanning(const Complex& c, int rank, std::uint32_t i) {
-  const auto verts = c.vertices_of(rank, i);
-  Eigen::MatrixXd d(c.ambient_dim(), verts.size() - 1);
-  for (std::size_t k = 1; k < verts.size(); ++k)
-    d.col(static_cast<Eigen::Index>(k - 1)) = c.position(verts[k]) - c.position(verts[0]);
-  return d;
 }
 
 enum class Family { vertex = 0, edge = 1, face = 2, cell = 3, grid = 4 };
