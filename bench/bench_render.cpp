@@ -26,6 +26,7 @@
 
 #include <unistd.h>
 
+#include "bench_options.hpp"
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/render/camera.hpp"
 #include "cw4d/render/raster.hpp"
@@ -221,17 +222,12 @@ class RatioReporter : public benchmark::ConsoleReporter {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool console = true;
-  bool color = isatty(STDOUT_FILENO) != 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg.starts_with("--benchmark_format=") && arg != "--benchmark_format=console") console = false;
-  }
+  const cw4d::bench::BenchOptions options = cw4d::bench::scan_options(argc, argv);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   register_cases();
-  if (console) {
-    RatioReporter reporter(color);
+  if (options.console) {
+    RatioReporter reporter(options.color);
     benchmark::RunSpecifiedBenchmarks(&reporter);
   } else {
     benchmark::RunSpecifiedBenchmarks();

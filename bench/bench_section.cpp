@@ -25,6 +25,7 @@
 
 #include <unistd.h>
 
+#include "bench_options.hpp"
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/complex/geometry.hpp"
@@ -181,19 +182,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
 int main(int argc, char** argv) {
   // The ratio summary needs our own console reporter; other formats use the library's.
-  bool console = true;
-  bool color = isatty(STDOUT_FILENO) != 0;
-  bool default_min_time = true;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg.starts_with("--benchmark_format=") && arg != "--benchmark_format=console")
-      console = false;
-    if (arg.starts_with("--benchmark_min_time=")) default_min_time = false;
-    if (arg.starts_with("--benchmark_color=")) {
-      const std::string_view v = arg.substr(arg.find('=') + 1);
-      color = v == "true" || v == "yes" || v == "1" || (v == "auto" && color);
-    }
-  }
+  const auto [console, color, default_min_time] = cw4d::bench::scan_options(argc, argv);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   register_cases(default_min_time);
