@@ -34,18 +34,7 @@ constexpr std::uint32_t kSeed = 20240401u;
 constexpr double kMinTime = 0.3;
 
 std::vector<cw4d::Hyperplane> generic_planes(const cw4d::Complex& model) {
-  std::mt19937 rng(kSeed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  const double r = 0.9 * cw4d::max_radius(model);
-  std::uniform_real_distribution<double> offset(-r, r);
-  std::vector<cw4d::Hyperplane> planes;
-  while (planes.size() < kPlaneCount) {
-    Eigen::VectorXd n(4);
-    for (int i = 0; i < 4; ++i) n[i] = gauss(rng);
-    if (n.norm() < 1e-6) continue;
-    planes.push_back(cw4d::Hyperplane::from(n, offset(rng)));
-  }
-  return planes;
+  return cw4d::bench::generic_planes(model, kPlaneCount, kSeed);
 }
 
 struct Model {
