@@ -8,6 +8,7 @@
 
 #include "cli.hpp"
 #include "cw4d/export/gltf.hpp"
+#include "cw4d/section/slicer.hpp"
 #include "output.hpp"
 
 namespace cw4d::cli {
@@ -107,10 +108,23 @@ void run_sweep(SweepSettings& s) {
   std::vector<std::string> files;    // every file written, companions included
   std::size_t polygons = 0;
   progress.step(0);
+  auto offset = [&](int i) {
+    return s.layers == 1 ? s.from : s.from + (s.to - s.from) * i / (s.layers - 1);
+  };
+  // A single model is cut in one pass over all layers, on every core (slicer.hpp); the buffers
+  // are exactly those of one section() per layer. Scenes are cut layer by layer.
+  std::vector<SliceBuffers> swept;
+  if (!input.is_scene) {
+    const SceneObject& obj = input.scene.objects.front();
+    const SliceModel compiled(*obj.complex, SliceModelOptions::unclustered());
+    std::vector<double> offsets(s.layers);
+    for (int i = 0; i < s.layers; ++i) offsets[i] = offset(i);
+    Slicer().sweep(compiled, p.plane(0.0).normal, offsets, obj.transform, swept, 0);
+  }
   try {
     for (int i = 0; i < s.layers; ++i) {
-      const double d = s.layers == 1 ? s.from : s.from + (s.to - s.from) * i / (s.layers - 1);
-      const Section sec = cut(input, p.plane(d)).section;
+      const double d = offset(i);
+      const Section sec = input.is_scene ? cut(input, p.plane(d)).section : to_section(swept[i]);
       if (sec.empty()) {
         empty.push_back(i);
       } else {

@@ -2,26 +2,19 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cw4d/complex/error.hpp"
+#include "dot2.hpp"
 
 namespace cw4d {
 
 double plane_value(const Eigen::VectorXd& n, double d, const double* x) {
-  // Dot2 (Ogita, Rump, Oishi 2005): p + c is the sum of the exact products and -d, c collecting
-  // the rounding errors of every product (fma) and every addition (TwoSum).
-  double p = -d, c = 0.0;
-  for (Eigen::Index i = 0; i < n.size(); ++i) {
-    const double h = n[i] * x[i];
-    const double r = std::fma(n[i], x[i], -h);  // exact: n_i x_i = h + r
-    const double sum = p + h;
-    const double z = sum - p;
-    const double e = (p - (sum - z)) + (h - z);  // exact: p + h = sum + e
-    p = sum;
-    c += e + r;
-  }
-  return p + c;
+  // Dot2 (Ogita, Rump, Oishi 2005): the products' sum and its error terms first, -d last
+  // (dot2.hpp), as accurate as twice the working precision.
+  return detail::dot2_finish(detail::dot2_partial(n.data(), x, static_cast<int>(n.size())), d);
 }
 
 Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
@@ -32,30 +25,75 @@ Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
   return Hyperplane{n / len, d};
 }
 
-Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& nrm) {
-  const Eigen::Index n = nrm.size();
-  Eigen::Index j = 0;
-  for (Eigen::Index i = 1; i < n; ++i)
-    if (std::abs(nrm(i)) >= std::abs(nrm(j))) j = i;
-  const double sgn = nrm(j) >= 0.0 ? 1.0 : -1.0;
+namespace {
+
+// Sign of the determinant of the n x n column-major matrix a (destroyed), by Gaussian
+// elimination with partial pivoting.
+int determinant_sign(double* a, int n) {
+  int sign = 1;
+  for (int k = 0; k < n; ++k) {
+    int piv = k;
+    for (int i = k + 1; i < n; ++i)
+      if (std::abs(a[k * n + i]) > std::abs(a[k * n + piv])) piv = i;
+    if (a[k * n + piv] == 0.0) return 0;
+    if (piv != k) {
+      for (int j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + piv]);
+      sign = -sign;
+    }
+    if (a[k * n + k] < 0.0) sign = -sign;
+    for (int i = k + 1; i < n; ++i) {
+      const double f = a[k * n + i] / a[k * n + k];
+      for (int j = k; j < n; ++j) a[j * n + i] -= f * a[j * n + k];
+    }
+  }
+  return sign;
+}
+
+}  // namespace
+
+void hyperplane_basis(const double* nrm, int n, double* basis) {
+  int j = 0;
+  for (int i = 1; i < n; ++i)
+    if (std::abs(nrm[i]) >= std::abs(nrm[j])) j = i;
+  const double sgn = nrm[j] >= 0.0 ? 1.0 : -1.0;
   // Householder reflection H = I - 2 u u^T / (u^T u) with u = sgn e_j + nrm maps e_j to -sgn nrm;
   // |u|^2 = 2 + 2 |nrm_j| >= 2, so this is stable.
-  Eigen::VectorXd u = nrm;
-  u(j) += sgn;
-  const double uu = u.squaredNorm();
-  Eigen::MatrixXd basis(n, n - 1);
-  Eigen::Index col = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
+  double uu = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double ui = nrm[i] + (i == j ? sgn : 0.0);
+    uu += ui * ui;
+  }
+  int col = 0;
+  for (int i = 0; i < n; ++i) {
     if (i == j) continue;
-    Eigen::VectorXd e = Eigen::VectorXd::Unit(n, i);
-    basis.col(col++) = e - (2.0 * u(i) / uu) * u;
+    const double f = 2.0 * (nrm[i] + (i == j ? sgn : 0.0)) / uu;
+    for (int r = 0; r < n; ++r) {
+      const double ur = nrm[r] + (r == j ? sgn : 0.0);
+      basis[col * n + r] = (r == i ? 1.0 : 0.0) - f * ur;
+    }
+    ++col;
   }
   if (n >= 2) {
-    Eigen::MatrixXd frame(n, n);
-    frame.leftCols(n - 1) = basis;
-    frame.col(n - 1) = nrm;
-    if (frame.determinant() < 0.0) basis.col(0) = -basis.col(0);
+    // (b_1, ..., b_{n-1}, nrm) must be right-handed: its determinant is +-1.
+    constexpr int kStack = 8;
+    double stack[kStack * kStack];
+    std::vector<double> heap;
+    double* frame = stack;
+    if (n > kStack) {
+      heap.resize(static_cast<std::size_t>(n) * n);
+      frame = heap.data();
+    }
+    std::copy(basis, basis + n * (n - 1), frame);
+    std::copy(nrm, nrm + n, frame + n * (n - 1));
+    if (determinant_sign(frame, n) < 0)
+      for (int r = 0; r < n; ++r) basis[r] = -basis[r];
   }
+}
+
+Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& nrm) {
+  const Eigen::Index n = nrm.size();
+  Eigen::MatrixXd basis(n, n - 1);
+  hyperplane_basis(nrm.data(), static_cast<int>(n), basis.data());
   return basis;
 }
 

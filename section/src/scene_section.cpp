@@ -1,72 +1,30 @@
 #include "cw4d/section/scene_section.hpp"
 
-#include <Eigen/SVD>
-
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <string>
-#include <unordered_map>
+#include <limits>
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/section/slicer.hpp"
 
 namespace cw4d {
-
-namespace {
-
-struct Sphere {
-  Eigen::VectorXd centre;
-  double radius = 0.0;
-};
-
-// Centre of the bounding box and the farthest vertex from it (not the smallest sphere, but
-// close and one pass).
-Sphere bounding_sphere(const Complex& c) {
-  const auto& p = c.positions();
-  Sphere s;
-  s.centre = Eigen::VectorXd::Zero(c.ambient_dim());
-  if (p.cols() == 0) return s;
-  s.centre = 0.5 * (p.rowwise().minCoeff() + p.rowwise().maxCoeff());
-  s.radius = (p.colwise() - s.centre).colwise().norm().maxCoeff();
-  return s;
-}
-
-// What section() returns when the plane misses the model.
-Section empty_section(int dim, const Hyperplane& plane) {
-  Section s;
-  s.complex = Complex(dim - 1);
-  s.complex.set_positions(Eigen::MatrixXd(dim - 1, 0));
-  s.frame = HyperplaneFrame(plane);
-  s.source.resize(1);
-  return s;
-}
-
-}  // namespace
 
 std::vector<Section> section_objects(const Scene& scene, const Hyperplane& plane) {
   const int dim = scene.dim();
   if (!scene.objects.empty() && plane.dim() != dim)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim));
-  std::unordered_map<const Complex*, Sphere> spheres;  // models are shared between objects
+  // Compiled without clusters, so that each piece is exactly section() of its object; objects
+  // whose bounding sphere misses the plane are culled (their empty piece is the same).
+  SceneSlicer slicer(scene, SliceModelOptions::unclustered());
+  std::vector<SliceBuffers> buffers;
+  slicer.slice(plane, buffers);
   std::vector<Section> pieces;
-  pieces.reserve(scene.objects.size());
-  for (const SceneObject& obj : scene.objects) {
-    const Complex& model = *obj.complex;
-    auto it = spheres.find(&model);
-    if (it == spheres.end()) it = spheres.emplace(&model, bounding_sphere(model)).first;
-    // The sphere in the world: centre moved, radius stretched by the largest singular value.
-    const Eigen::VectorXd centre = obj.transform.apply(it->second.centre);
-    const double stretch =
-        Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
-    const double radius = stretch * it->second.radius;
-    const double margin = tol::bounding_sphere_margin_rel * (radius + centre.norm());
-    if (std::abs(plane.signed_distance(centre)) > radius + margin)
-      pieces.push_back(empty_section(dim, plane));
-    else
-      pieces.push_back(section(model, plane, obj.transform));
-  }
+  pieces.reserve(buffers.size());
+  for (const SliceBuffers& b : buffers) pieces.push_back(to_section(b));
   return pieces;
 }
 

@@ -12,6 +12,8 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/section/slicer.hpp"
+#include "general.hpp"
 
 namespace cw4d {
 
@@ -409,7 +411,7 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
 
 }  // namespace
 
-Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+void check_section_input(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
   const int n = model.ambient_dim();
   if (n < 2) throw InputError("section needs a model of dimension >= 2");
   if (plane.dim() != n)
@@ -418,6 +420,11 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   if (xf.dim() != n)
     throw InputError("transform of R^" + std::to_string(xf.dim()) + " for a model in R^" +
                      std::to_string(n));
+}
+
+Section section_general(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+  check_section_input(model, plane, xf);
+  const int n = model.ambient_dim();
   // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
   const Eigen::VectorXd nm = xf.linear().transpose() * plane.normal;
   const double dm = plane.offset - plane.normal.dot(xf.translation());
@@ -495,6 +502,17 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   }
   sec.self_intersecting = self_intersects(sec.complex);
   return sec;
+}
+
+Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+  check_section_input(model, plane, xf);
+  // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
+  const SliceModel compiled(model, SliceModelOptions::unclustered());
+  if (!compiled.fast()) return section_general(model, plane, xf);
+  Slicer slicer;
+  SliceBuffers buffers;
+  slicer.slice(compiled, plane, xf, buffers);
+  return to_section(buffers);
 }
 
 Section section(const Complex& model, const Hyperplane& plane) {

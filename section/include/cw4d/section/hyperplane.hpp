@@ -61,6 +61,8 @@ inline Side classify_side(double signed_distance, double tolerance) {
 /// needed so that (b_1, ..., b_{n-1}, normal) is right-handed (det = +1). For normal = +e_n the
 /// basis is (e_1, ..., e_{n-1}): cutting with w = d keeps x, y, z.
 Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& unit_normal);
+/// The same basis written without allocating (for n <= 8) into `basis`, n x (n-1) column-major.
+void hyperplane_basis(const double* unit_normal, int n, double* basis);
 
 /// A hyperplane with its basis: section coordinates y of a point x of the plane are
 /// y = basis^T (x - offset * normal), and x = offset * normal + basis * y.

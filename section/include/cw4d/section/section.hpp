@@ -57,6 +57,13 @@ Section section(const Complex& model, const Hyperplane& plane,
                 const AffineTransform& model_to_world);
 Section section(const Complex& model, const Hyperplane& plane);
 
+/// The general layered cut alone, without the slicer's fast path (slicer.hpp) that section()
+/// takes when it can: every dimension and every degenerate plane. The fast path gives the same
+/// complex (same elements in the same order) with coordinates equal up to rounding; the tests
+/// use this as the second algorithm. \throw InputError as section().
+Section section_general(const Complex& model, const Hyperplane& plane,
+                        const AffineTransform& model_to_world);
+
 /// Whether a closed polygon surface in R^3 is not embedded: a face that is not a simple polygon
 /// (is_simple_face), or a boundary edge of one face passing through the interior of another
 /// face it shares no vertex with (beyond tol::self_intersection_rel). Faces sharing a vertex

@@ -1,0 +1,259 @@
+#pragma once
+// The hot path of the section: a model compiled once into flat arrays (SliceModel), a Slicer
+// that owns every scratch buffer, and flat output (SliceBuffers) whose storage is reused from
+// slice to slice, so that after the first slices of a model no memory is allocated. On top of
+// it: bounding-sphere and cell-cluster culling, a topology cache for animation frames, sweeps of
+// parallel planes in one pass, and threads. Every one of these gives exactly (bit for bit) the
+// buffers of the plain call Slicer::slice(model, plane, xf, out); section() itself is
+// to_section() of that call.
+//
+// The fast path covers models in R^3 and R^4 with facet normals whose faces are cut in at most
+// two points (convex faces; cells may be non-convex). Anything else -- vertices on the plane,
+// crossings within the weld distance of a vertex, non-convex faces cut in more than two points,
+// models of other dimensions -- goes through the general layered cut of section.cpp, whose
+// result is copied into the buffers (SliceBuffers::general is then true).
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "cw4d/complex/complex.hpp"
+#include "cw4d/complex/scene.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/section.hpp"
+
+namespace cw4d {
+
+struct SliceModelOptions {
+  /// Models with at least this many facets are split into clusters of cells for culling.
+  std::size_t cluster_threshold = 4096;
+  /// Facets per cluster.
+  std::size_t cluster_size = 256;
+  /// No clusters: elements keep the model's order, as section() numbers them.
+  static SliceModelOptions unclustered() { return {static_cast<std::size_t>(-1), 256}; }
+};
+
+/// A complex compiled for slicing: its elements in flat compressed rows, renumbered cluster by
+/// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
+/// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
+/// weld distance. Immutable after construction and safe to share between threads. Keeps a
+/// reference to `model`, which must outlive it (the general path cuts the model itself).
+class SliceModel {
+ public:
+  explicit SliceModel(const Complex& model, const SliceModelOptions& options = {});
+
+  const Complex& complex() const { return *model_; }
+  int dim() const { return dim_; }
+  /// Whether the fast path can run on this model at all (R^3 or R^4, facet normals, every
+  /// element below the facets bounds some element above, top rank n-1 or n).
+  bool fast() const { return fast_; }
+  std::size_t cluster_count() const { return cluster_vertex_.size() - 1; }
+  const Eigen::VectorXd& centre() const { return centre_; }
+  double radius() const { return radius_; }
+  /// Bytes of the compiled arrays (not counting the model).
+  std::size_t bytes() const;
+
+ private:
+  friend class Slicer;
+  struct Rank {
+    std::vector<std::uint32_t> offsets, ids;
+    std::vector<std::int8_t> signs;
+    std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
+  };
+  const Complex* model_;
+  int dim_ = 0;
+  int top_ = 0;
+  bool fast_ = false;
+  std::vector<double> positions_;        // dim_ per internal vertex
+  std::vector<std::uint32_t> vertex_id_; // internal vertex -> model vertex (empty: identity)
+  std::vector<Rank> ranks_;              // ranks_[k], k = 1..top_ (ranks_[0] unused)
+  std::vector<double> facet_normals_;    // dim_ per internal facet
+  // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
+  // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
+  // above the facets are always processed. One cluster (no reordering) for small models.
+  std::vector<std::vector<std::uint32_t>> begin_;
+  std::vector<std::uint32_t> cluster_vertex_, cluster_vertices_;
+  std::vector<double> cluster_sphere_;   // (dim_ centre, radius) per cluster
+  Eigen::VectorXd centre_;
+  double radius_ = 0.0;
+  double max_norm_ = 0.0;  // sqrt of the largest squared vertex norm (tolerance scale)
+  double weld_ = 0.0;      // tol::weld_rel * bounding-box diagonal
+};
+
+/// The flat section a Slicer writes: the same complex, frame, provenance and facet normals as
+/// the Section that to_section() makes of it (model ids in vertex_source and source). Reusing
+/// one SliceBuffers for the slices of an animation keeps its storage and lets the topology
+/// cache reuse the previous slice's connectivity.
+struct SliceBuffers {
+  int dim = 0;                        ///< dimension of the section (the model's minus one)
+  Hyperplane plane;                   ///< the world-space plane
+  std::vector<double> coords;         ///< dim per vertex, coordinates in HyperplaneFrame(plane)
+  std::vector<VertexSource> vertex_source;
+  std::vector<Incidence> boundary;    ///< boundary[r - 1]: the section's elements of rank r
+  std::vector<std::vector<std::uint32_t>> source;  ///< source[r]: model element of rank r + 1
+  std::vector<double> facet_normals;  ///< dim per facet (rank dim - 1), unit
+  bool general = false;               ///< true when the general path made these buffers
+  bool reused_topology = false;       ///< true when the topology cache answered the last slice
+
+  std::size_t count(int rank) const {
+    return rank == 0 ? vertex_source.size()
+                     : rank <= static_cast<int>(boundary.size()) ? boundary[rank - 1].size() : 0;
+  }
+  bool empty() const { return vertex_source.empty(); }
+  /// Triangles of a fan over every polygon (rank 2), what a GPU would draw.
+  std::size_t fan_triangles() const;
+  /// Resizes boundary to `top` tables and source to top + 1 lists, all empty; storage of
+  /// dropped tables is kept for later slices.
+  void set_ranks(int top);
+
+ private:
+  friend class Slicer;
+  std::vector<Incidence> spare_tables_;
+  std::vector<std::vector<std::uint32_t>> spare_sources_;
+  // Topology cache: what the last fast slice decided.
+  const SliceModel* cache_model_ = nullptr;
+  std::vector<std::uint32_t> cache_touched_;  // clusters touched
+  std::vector<std::int8_t> cache_side_;       // sides of their vertices, in that order
+  std::vector<std::uint32_t> cache_edge_;     // internal edge of each section vertex
+  std::vector<std::uint32_t> cache_facet_;    // internal facet of each section facet
+  bool cache_reflect_ = false;
+  bool cache_valid_ = false;
+};
+
+/// The Section of the buffers (as section() returns it, including self_intersecting).
+Section to_section(const SliceBuffers& buffers);
+
+struct SliceOptions {
+  /// Skip clusters (and, in scenes, objects) whose bounding sphere misses the plane.
+  bool cull = true;
+  /// Reuse the connectivity already in `out` when it came from the same model and no vertex
+  /// changed side (only positions and normals are recomputed).
+  bool reuse_topology = false;
+};
+
+/// Scratch space for slicing; one per thread. Not thread-safe itself.
+class Slicer {
+ public:
+  /// Cuts `model` placed by model_to_world with the world-space plane into `out`.
+  /// \throw InputError as section().
+  void slice(const SliceModel& model, const Hyperplane& plane, const AffineTransform& model_to_world,
+             SliceBuffers& out, const SliceOptions& options = {});
+  void slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
+             const SliceOptions& options = {});
+
+  /// The sections with the planes {x : normal . x = offsets[i]} (normal need not be unit; it
+  /// is normalised as Hyperplane::from does) in one pass over the model: the signed values are
+  /// computed once per vertex, each edge visits only the layers between its endpoints' heights,
+  /// each face and cell only the layers it spans. out[i] is exactly what slice() gives for
+  /// plane i. Layers that need the general path are cut by slice().
+  /// threads > 1 splits the layers, in offset order, into that many groups of consecutive
+  /// layers swept at once on their own threads (0: std::thread::hardware_concurrency()); the
+  /// buffers are identical for every thread count.
+  /// \throw InputError when the normal is zero or not finite, an offset is not finite, or the
+  ///        dimensions disagree.
+  void sweep(const SliceModel& model, const Eigen::VectorXd& normal, std::span<const double> offsets,
+             const AffineTransform& model_to_world, std::vector<SliceBuffers>& out,
+             unsigned threads = 1);
+
+  /// Fast-path slices since construction, and how many of them the topology cache answered.
+  std::size_t fast_slices() const { return fast_count_; }
+  std::size_t cached_slices() const { return cached_count_; }
+
+ private:
+  struct Term {
+    std::uint32_t id;
+    int coef;
+  };
+  struct Image {
+    std::uint32_t gen = 0, begin = 0, count = 0;
+  };
+  struct Step {
+    std::uint32_t tail, head, edge;
+    int sign;
+    bool used;
+  };
+  struct Placement;  // the plane in model space and the output maps (slicer.cpp)
+  bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                  SliceBuffers& out);
+  bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+             SliceBuffers& out);
+  void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
+                    SliceBuffers& out, const SliceOptions& options);
+  void general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                     SliceBuffers& out);
+  bool emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
+                    std::vector<std::uint32_t>& facets, std::vector<Term>& image);
+  bool emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
+                  std::vector<Term>& image);
+  bool finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                   std::span<const std::uint32_t> section_edge,
+                   std::span<const std::uint32_t> facet_internal);
+  bool write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                      std::span<const std::uint32_t> section_edge,
+                      std::span<const std::uint32_t> facet_internal);
+  void remember(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  void sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                    std::span<const double> offsets, std::span<const std::uint32_t> layers,
+                    std::vector<SliceBuffers>& out);
+
+  std::uint32_t gen_ = 0;
+  std::vector<double> s_;
+  std::vector<std::int8_t> side_;
+  std::vector<std::vector<Image>> images_;  // images_[k][internal element of rank k]
+  std::vector<std::vector<Term>> terms_;    // terms_[k]: storage of the images of rank k
+  std::vector<Term> chain_, image_;
+  std::vector<Step> steps_;
+  std::vector<std::uint32_t> touched_;
+  std::vector<std::uint32_t> section_edge_;  // internal model edge of each section vertex
+  std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
+  std::vector<std::uint32_t> row_ids_;
+  std::vector<std::int8_t> row_signs_;
+  // sweep scratch: per rank k and element x, the candidate layers [lo, lo + cnt) (positions in
+  // offset order) and their images sw_entry_[k][base + j - lo] in sw_terms_[k].
+  struct Span {
+    std::uint32_t begin = 0, count = 0;
+  };
+  std::vector<std::pair<double, double>> dots_;
+  std::vector<double> height_, layer_d_, layer_tol_;
+  std::vector<std::uint32_t> layer_order_;
+  std::vector<std::vector<std::uint32_t>> sw_lo_, sw_cnt_, sw_base_;
+  std::vector<std::vector<Span>> sw_entry_;
+  std::vector<std::vector<Term>> sw_terms_;
+  std::vector<char> layer_bad_;
+  std::vector<std::vector<std::uint32_t>> layer_edges_, layer_facets_;
+  std::size_t fast_count_ = 0, cached_count_ = 0;
+};
+
+/// A scene compiled for repeated slicing: one SliceModel per distinct model, the world-space
+/// bounding sphere of every object. Keeps references to the scene's models.
+class SceneSlicer {
+ public:
+  explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
+  std::size_t size() const { return objects_.size(); }
+  /// out[i] is the section of object i (empty when culled); identical for every thread count
+  /// and with or without culling. threads = 0 uses std::thread::hardware_concurrency().
+  /// \throw InputError when the plane's dimension differs from the scene's.
+  void slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads = 1,
+             const SliceOptions& options = {});
+  /// Objects the last slice() did not cull.
+  std::size_t touched() const { return touched_; }
+
+ private:
+  struct Object {
+    const SliceModel* model;
+    const AffineTransform* transform;
+    Eigen::VectorXd centre;  // world-space bounding sphere
+    double radius;
+  };
+  std::vector<std::unique_ptr<SliceModel>> models_;
+  std::vector<Object> objects_;
+  std::vector<Slicer> slicers_;
+  std::size_t touched_ = 0;
+  int dim_ = 0;
+};
+
+}  // namespace cw4d

@@ -1,0 +1,1086 @@
+#include "cw4d/section/slicer.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <unordered_map>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/tolerances.hpp"
+#include "dot2.hpp"
+#include "general.hpp"
+
+namespace cw4d {
+
+namespace {
+
+constexpr std::uint32_t none = 0xffffffffu;
+constexpr int kMaxDim = 4;
+
+// Morton code of a point quantised to `bits` bits per coordinate inside [lo, hi].
+std::uint64_t morton(const double* x, const double* lo, const double* hi, int n) {
+  const int bits = 64 / n;
+  const double cells = std::ldexp(1.0, bits) - 1.0;
+  std::uint64_t q[kMaxDim] = {};
+  for (int i = 0; i < n; ++i) {
+    const double span = hi[i] - lo[i];
+    const double f = span > 0.0 ? (x[i] - lo[i]) / span : 0.0;
+    q[i] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * cells);
+  }
+  std::uint64_t key = 0;
+  for (int b = bits - 1; b >= 0; --b)
+    for (int i = 0; i < n; ++i) key = (key << 1) | ((q[i] >> b) & 1u);
+  return key;
+}
+
+// Whether every element of rank k < n-1 bounds an element of rank k + 1 (so every piece the
+// fast path cuts reaches a facet, as the general path's pruning requires).
+bool every_element_bounds(const Complex& c, int below_rank) {
+  for (int k = 1; k <= below_rank + 1 && k <= c.top_rank(); ++k) {
+    std::vector<char> used(c.count(k - 1), 0);
+    for (auto id : c.boundary(k).all_ids()) used[id] = 1;
+    if (std::find(used.begin(), used.end(), 0) != used.end()) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// --- SliceModel -------------------------------------------------------------------------------
+
+SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) : model_(&model) {
+  const int n = model.ambient_dim();
+  dim_ = n;
+  top_ = model.top_rank();
+  const std::size_t nv = model.count(0);
+  const auto& p = model.positions();
+  // Bounding box, sphere and the largest vertex norm (the tolerance scale of section()).
+  centre_ = Eigen::VectorXd::Zero(n);
+  double max_norm2 = 0.0;
+  Eigen::VectorXd lo = Eigen::VectorXd::Zero(n), hi = Eigen::VectorXd::Zero(n);
+  if (nv > 0) {
+    lo = p.rowwise().minCoeff();
+    hi = p.rowwise().maxCoeff();
+    centre_ = 0.5 * (lo + hi);
+    radius_ = (p.colwise() - centre_).colwise().norm().maxCoeff();
+    for (std::size_t v = 0; v < nv; ++v)
+      max_norm2 = std::max(max_norm2, p.col(static_cast<Eigen::Index>(v)).squaredNorm());
+  }
+  max_norm_ = std::sqrt(max_norm2);
+  weld_ = tol::weld_rel * (hi - lo).norm();
+  const int fr = n - 1;
+  fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
+          every_element_bounds(model, fr - 1);
+  if (!fast_) {
+    cluster_vertex_ = {0};
+    return;
+  }
+  const std::size_t nf = model.count(fr);
+  ranks_.resize(top_ + 1);
+  begin_.assign(fr, {});
+  const bool clustered = nf >= options.cluster_threshold && options.cluster_size > 0;
+  if (!clustered) {
+    positions_.assign(p.data(), p.data() + n * nv);
+    for (int k = 1; k <= top_; ++k) {
+      const Incidence& t = model.boundary(k);
+      ranks_[k].offsets = t.offsets();
+      ranks_[k].ids = t.all_ids();
+      ranks_[k].signs = t.all_signs();
+    }
+    for (int k = 1; k <= fr; ++k) begin_[k - 1] = {0, static_cast<std::uint32_t>(model.count(k))};
+    cluster_vertex_ = {0, static_cast<std::uint32_t>(nv)};
+    cluster_vertices_.resize(nv);
+    std::iota(cluster_vertices_.begin(), cluster_vertices_.end(), 0u);
+    cluster_sphere_.assign(centre_.data(), centre_.data() + n);
+    cluster_sphere_.push_back(radius_);
+    const auto& fnrm = model.facet_normals();
+    facet_normals_.assign(fnrm.data(), fnrm.data() + n * nf);
+    return;
+  }
+  // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
+  // cluster_size; every lower element goes to the first cluster whose facets reach it.
+  std::vector<std::uint64_t> key(nf);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+  std::vector<std::uint32_t> facet_order(nf);
+  std::iota(facet_order.begin(), facet_order.end(), 0u);
+  std::stable_sort(facet_order.begin(), facet_order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  const std::size_t nc = (nf + options.cluster_size - 1) / options.cluster_size;
+  // new_id[k][model id] for ranks 0..fr; order[k] = model ids in internal order.
+  std::vector<std::vector<std::uint32_t>> new_id(fr + 1), order(fr + 1);
+  for (int k = 0; k <= fr; ++k) {
+    new_id[k].assign(model.count(k), none);
+    order[k].reserve(model.count(k));
+  }
+  for (int k = 1; k <= fr; ++k) begin_[k - 1].assign(1, 0);
+  cluster_vertex_.assign(1, 0);
+  std::vector<std::uint32_t> stamp(nv, none), fresh, verts;
+  std::vector<std::vector<std::uint32_t>> frontier(fr + 1);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const std::size_t f0 = c * options.cluster_size, f1 = std::min(nf, f0 + options.cluster_size);
+    for (int k = 0; k <= fr; ++k) frontier[k].clear();
+    verts.clear();
+    for (std::size_t i = f0; i < f1; ++i) frontier[fr].push_back(facet_order[i]);
+    // Walk down: the cluster's elements of each rank (all of them, for the vertex list), and
+    // those not yet owned by an earlier cluster.
+    for (int k = fr; k >= 1; --k) {
+      std::vector<std::uint32_t>& below = frontier[k - 1];
+      const Incidence& t = model.boundary(k);
+      for (auto x : frontier[k])
+        for (auto id : t.ids(x)) below.push_back(id);
+      std::sort(below.begin(), below.end());
+      below.erase(std::unique(below.begin(), below.end()), below.end());
+    }
+    for (int k = fr; k >= 0; --k) {
+      fresh.clear();
+      for (auto x : frontier[k])
+        if (new_id[k][x] == none) fresh.push_back(x);
+      if (k == fr) std::sort(fresh.begin(), fresh.end());
+      for (auto x : fresh) {
+        new_id[k][x] = static_cast<std::uint32_t>(order[k].size());
+        order[k].push_back(x);
+      }
+      if (k >= 1) begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
+    }
+    for (auto v : frontier[0]) verts.push_back(new_id[0][v]);
+    std::sort(verts.begin(), verts.end());
+    cluster_vertices_.insert(cluster_vertices_.end(), verts.begin(), verts.end());
+    cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
+  }
+  // Elements no facet reaches cannot exist here (every_element_bounds).
+  vertex_id_ = order[0];
+  positions_.resize(n * nv);
+  for (std::size_t i = 0; i < nv; ++i)
+    for (int j = 0; j < n; ++j) positions_[i * n + j] = p(j, vertex_id_[i]);
+  for (int k = 1; k <= top_; ++k) {
+    const Incidence& t = model.boundary(k);
+    Rank& r = ranks_[k];
+    const bool renumbered = k <= fr;
+    const std::size_t count = t.size();
+    r.offsets.assign(1, 0);
+    r.offsets.reserve(count + 1);
+    r.ids.reserve(t.entries());
+    r.signs.reserve(t.entries());
+    if (renumbered) r.model_id = order[k];
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t x = renumbered ? order[k][i] : static_cast<std::uint32_t>(i);
+      for (auto id : t.ids(x)) r.ids.push_back(new_id[k - 1][id]);
+      const auto sg = t.signs(x);
+      r.signs.insert(r.signs.end(), sg.begin(), sg.end());
+      r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
+    }
+  }
+  const auto& fnrm = model.facet_normals();
+  facet_normals_.resize(n * nf);
+  for (std::size_t i = 0; i < nf; ++i)
+    for (int j = 0; j < n; ++j) facet_normals_[i * n + j] = fnrm(j, order[fr][i]);
+  // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
+  cluster_sphere_.resize(nc * (n + 1));
+  for (std::size_t c = 0; c < nc; ++c) {
+    double clo[kMaxDim], chi[kMaxDim];
+    std::fill(clo, clo + n, std::numeric_limits<double>::infinity());
+    std::fill(chi, chi + n, -std::numeric_limits<double>::infinity());
+    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = positions_[cluster_vertices_[i] * n + j];
+        clo[j] = std::min(clo[j], x);
+        chi[j] = std::max(chi[j], x);
+      }
+    double* sphere = &cluster_sphere_[c * (n + 1)];
+    for (int j = 0; j < n; ++j) sphere[j] = 0.5 * (clo[j] + chi[j]);
+    double r2 = 0.0;
+    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i) {
+      double d2 = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double d = positions_[cluster_vertices_[i] * n + j] - sphere[j];
+        d2 += d * d;
+      }
+      r2 = std::max(r2, d2);
+    }
+    sphere[n] = std::sqrt(r2);
+  }
+}
+
+std::size_t SliceModel::bytes() const {
+  std::size_t b = positions_.size() * sizeof(double) + facet_normals_.size() * sizeof(double) +
+                  vertex_id_.size() * 4 + cluster_vertex_.size() * 4 +
+                  cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
+  for (const Rank& r : ranks_)
+    b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
+  for (const auto& v : begin_) b += v.size() * 4;
+  return b;
+}
+
+void SliceBuffers::set_ranks(int top) {
+  // Tables beyond `top` are parked, not freed, so that their storage serves later slices.
+  const std::size_t want = static_cast<std::size_t>(top);
+  while (boundary.size() > want) {
+    spare_tables_.push_back(std::move(boundary.back()));
+    boundary.pop_back();
+  }
+  while (boundary.size() < want) {
+    if (spare_tables_.empty()) {
+      boundary.emplace_back();
+    } else {
+      boundary.push_back(std::move(spare_tables_.back()));
+      spare_tables_.pop_back();
+    }
+  }
+  for (auto& b : boundary) b.clear();
+  while (source.size() > want + 1) {
+    spare_sources_.push_back(std::move(source.back()));
+    source.pop_back();
+  }
+  while (source.size() < want + 1) {
+    if (spare_sources_.empty()) {
+      source.emplace_back();
+    } else {
+      source.push_back(std::move(spare_sources_.back()));
+      spare_sources_.pop_back();
+    }
+  }
+  for (auto& v : source) v.clear();
+}
+
+std::size_t SliceBuffers::fan_triangles() const {
+  if (boundary.size() < 2) return 0;
+  std::size_t t = 0;
+  const Incidence& faces = boundary[1];
+  for (std::size_t f = 0; f < faces.size(); ++f) t += faces.row_size(f) - 2;
+  return t;
+}
+
+// --- placement ------------------------------------------------------------------------------
+
+// The plane moved into model space and the maps from model space to the section: computed
+// per slice in fixed-size arrays (no allocation).
+struct Slicer::Placement {
+  int n = 0;
+  double nm[kMaxDim] = {};    // A^T n
+  double dm = 0.0;            // d - n.t
+  double nm_norm = 0.0;
+  double tol = 0.0;           // ON band
+  double M[kMaxDim * kMaxDim] = {};  // section coords y = M x + c (row-major, (n-1) x n)
+  double c[kMaxDim] = {};
+  double N[kMaxDim * kMaxDim] = {};  // projected normals: basis^T A^{-T} (row-major)
+  bool reflect = false;
+  const Hyperplane* plane = nullptr;
+  const double* basis = nullptr;  // n x (n-1) column-major
+  double basis_store[kMaxDim * kMaxDim] = {};
+  double A[kMaxDim * kMaxDim] = {};  // row-major
+  double t[kMaxDim] = {};
+
+  // Everything that does not depend on the plane offset.
+  // xf == nullptr: the identity.
+  void set(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
+    n = m.dim();
+    plane = &p;
+    for (int i = 0; i < n; ++i) {
+      t[i] = xf ? xf->translation()[i] : 0.0;
+      for (int j = 0; j < n; ++j) A[i * n + j] = xf ? xf->linear()(i, j) : (i == j ? 1.0 : 0.0);
+    }
+    for (int j = 0; j < n; ++j) {
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += A[i * n + j] * p.normal[i];
+      nm[j] = sum;
+    }
+    double nn = 0.0;
+    for (int j = 0; j < n; ++j) nn += nm[j] * nm[j];
+    nm_norm = std::sqrt(nn);
+    hyperplane_basis(p.normal.data(), n, basis_store);
+    basis = basis_store;
+    const int o = n - 1;
+    for (int r = 0; r < o; ++r)
+      for (int j = 0; j < n; ++j) {
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) sum += basis[r * n + i] * A[i * n + j];
+        M[r * n + j] = sum;
+      }
+    // A^{-1} by Gauss-Jordan with partial pivoting; the determinant's sign on the way.
+    double a[kMaxDim * kMaxDim], inv[kMaxDim * kMaxDim];
+    std::copy(A, A + n * n, a);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) inv[i * n + j] = i == j ? 1.0 : 0.0;
+    int sign = 1;
+    for (int k = 0; k < n; ++k) {
+      int piv = k;
+      for (int i = k + 1; i < n; ++i)
+        if (std::abs(a[i * n + k]) > std::abs(a[piv * n + k])) piv = i;
+      if (piv != k) {
+        for (int j = 0; j < n; ++j) std::swap(a[k * n + j], a[piv * n + j]), std::swap(inv[k * n + j], inv[piv * n + j]);
+        sign = -sign;
+      }
+      const double d = a[k * n + k];
+      if (d < 0.0) sign = -sign;
+      for (int j = 0; j < n; ++j) a[k * n + j] /= d, inv[k * n + j] /= d;
+      for (int i = 0; i < n; ++i) {
+        if (i == k) continue;
+        const double f = a[i * n + k];
+        for (int j = 0; j < n; ++j) a[i * n + j] -= f * a[k * n + j], inv[i * n + j] -= f * inv[k * n + j];
+      }
+    }
+    reflect = sign < 0;
+    // N = basis^T A^{-T}: N[r][j] = sum_i basis_i,r * inv[j][i].
+    for (int r = 0; r < o; ++r)
+      for (int j = 0; j < n; ++j) {
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) sum += basis[r * n + i] * inv[j * n + i];
+        N[r * n + j] = sum;
+      }
+  }
+
+  // The plane offset d (world) for this slice.
+  void set_offset(const SliceModel& m, double d) {
+    double nt = 0.0;
+    for (int i = 0; i < n; ++i) nt += plane->normal[i] * t[i];
+    dm = d - nt;
+    const double scale = nm_norm * m.max_norm_ + std::abs(dm);
+    tol = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+    const int o = n - 1;
+    for (int r = 0; r < o; ++r) {
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += basis[r * n + i] * (t[i] - d * plane->normal[i]);
+      c[r] = sum;
+    }
+  }
+
+  // Whether the sphere (model space) can touch the plane, beyond the ON band.
+  bool meets(const double* centre, double radius) const {
+    double dist = -dm, cn = 0.0;
+    for (int i = 0; i < n; ++i) dist += nm[i] * centre[i], cn += centre[i] * centre[i];
+    const double margin =
+        tol::bounding_sphere_margin_rel * (nm_norm * (radius + std::sqrt(cn)) + std::abs(dm)) + tol;
+    return std::abs(dist) <= nm_norm * radius + margin;
+  }
+};
+
+// --- slicing --------------------------------------------------------------------------------
+
+namespace {
+
+void clear_to_empty(SliceBuffers& out, int dim) {
+  out.dim = dim;
+  out.coords.clear();
+  out.vertex_source.clear();
+  out.set_ranks(0);  // (no tables: the empty section has only rank 0)
+  out.facet_normals.clear();
+}
+
+}  // namespace
+
+void Slicer::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
+                   const SliceOptions& options) {
+  slice_placed(model, plane, nullptr, out, options);
+}
+
+void Slicer::slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                   SliceBuffers& out, const SliceOptions& options) {
+  slice_placed(m, plane, &xf, out, options);
+}
+
+void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
+                          SliceBuffers& out, const SliceOptions& options) {
+  auto general = [&] {
+    if (xf)
+      general_slice(m, plane, *xf, out);
+    else
+      general_slice(m, plane, AffineTransform::identity(m.dim()), out);
+  };
+  if (!m.fast() || plane.dim() != m.dim() || (xf && xf->dim() != m.dim())) {
+    general();  // (which throws InputError for mismatched dimensions)
+    return;
+  }
+  Placement pl;
+  pl.set(m, plane, xf);
+  pl.set_offset(m, plane.offset);
+  if (options.reuse_topology && reuse(m, pl, options, out)) {
+    ++cached_count_;
+    return;
+  }
+  if (!fast_slice(m, pl, options, out)) general();
+}
+
+void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                           SliceBuffers& out) {
+  const Section sec = section_general(m.complex(), plane, xf);
+  const Complex& c = sec.complex;
+  out.dim = c.ambient_dim();
+  out.plane = plane;
+  out.coords.assign(c.positions().data(), c.positions().data() + c.positions().size());
+  out.vertex_source = sec.vertex_source;
+  out.boundary.resize(c.top_rank());
+  for (int r = 1; r <= c.top_rank(); ++r) out.boundary[r - 1] = c.boundary(r);
+  out.source = sec.source;
+  out.facet_normals.assign(c.facet_normals().data(),
+                           c.facet_normals().data() + c.facet_normals().size());
+  out.general = true;
+  out.reused_topology = false;
+  out.cache_valid_ = false;
+}
+
+bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
+                        std::vector<Term>& image) {
+  // As the general path's emit_faces: signed section edges chained into closed loops, each
+  // loop one polygon in cycle order; loops start at the smallest unused tail.
+  Incidence& edges = out.boundary[0];
+  steps_.clear();
+  for (const Term& t : chain) {
+    const auto e = edges.ids(t.id);
+    const int sign = t.coef > 0 ? 1 : -1;
+    if (std::abs(t.coef) != 1) return false;
+    steps_.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
+  }
+  std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+  auto find_from = [&](std::uint32_t tail) -> Step* {
+    auto it = std::lower_bound(steps_.begin(), steps_.end(), tail,
+                               [](const Step& s, std::uint32_t v) { return s.tail < v; });
+    for (; it != steps_.end() && it->tail == tail; ++it)
+      if (!it->used) return &*it;
+    return nullptr;
+  };
+  Incidence& faces = out.boundary[1];
+  for (std::size_t start = 0; start < steps_.size(); ++start) {
+    if (steps_[start].used) continue;
+    row_ids_.clear();
+    row_signs_.clear();
+    Step* cur = &steps_[start];
+    bool closed = false;
+    while (cur && !cur->used) {
+      cur->used = true;
+      row_ids_.push_back(cur->edge);
+      row_signs_.push_back(static_cast<std::int8_t>(cur->sign));
+      if (cur->head == steps_[start].tail) {
+        closed = true;
+        break;
+      }
+      cur = find_from(cur->head);
+    }
+    if (!closed || row_ids_.size() < 3) return false;  // the general path drops these
+    image.push_back({static_cast<std::uint32_t>(faces.size()), 1});
+    faces.add_row(row_ids_, row_signs_);
+    out.source[2].push_back(source);
+  }
+  return true;
+}
+
+bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
+                          std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
+  // The chain (gathered in chain_) summed per id, as the general path's combine().
+  std::sort(chain_.begin(), chain_.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < chain_.size();) {
+    std::size_t j = i;
+    int sum = 0;
+    while (j < chain_.size() && chain_[j].id == chain_[i].id) sum += chain_[j++].coef;
+    if (sum != 0) chain_[w++] = {chain_[i].id, sum};
+    i = j;
+  }
+  chain_.resize(w);
+  if (chain_.empty()) return true;
+  const SliceModel::Rank& R = m.ranks_[k];
+  const int fr = m.dim_ - 1;
+  const std::uint32_t model_x = R.model_id.empty() ? x : R.model_id[x];
+  if (k == 2) {
+    if (chain_.size() != 2 || chain_[0].coef != -chain_[1].coef || std::abs(chain_[0].coef) != 1)
+      return false;  // a face cut in more than two points: the general path
+    const bool first_is_tail = chain_[0].coef < 0;
+    const std::uint32_t ends[2] = {first_is_tail ? chain_[0].id : chain_[1].id,
+                                   first_is_tail ? chain_[1].id : chain_[0].id};
+    const std::int8_t signs[2] = {-1, 1};
+    image.push_back({static_cast<std::uint32_t>(out.boundary[0].size()), 1});
+    out.boundary[0].add_row(ends, signs);
+    out.source[1].push_back(model_x);
+    if (k == fr) facets.push_back(x);
+  } else if (k == 3) {
+    const std::size_t before = image.size();
+    if (!emit_loops(chain_, model_x, out, image)) return false;
+    if (k == fr) facets.insert(facets.end(), image.size() - before, x);
+  } else {
+    row_ids_.clear();
+    row_signs_.clear();
+    for (const Term& t : chain_) {
+      if (std::abs(t.coef) != 1) return false;
+      row_ids_.push_back(t.id);
+      row_signs_.push_back(static_cast<std::int8_t>(t.coef));
+    }
+    Incidence& table = out.boundary[k - 2];
+    image.push_back({static_cast<std::uint32_t>(table.size()), 1});
+    table.add_row(row_ids_, row_signs_);
+    out.source[k - 1].push_back(model_x);
+  }
+  return true;
+}
+
+bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                        SliceBuffers& out) {
+  const int n = m.dim_;
+  const int fr = n - 1;
+  const int top = m.top_;
+  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nc = m.cluster_count();
+  if (++gen_ == 0) {  // wrapped: forget every stamp
+    for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
+    gen_ = 1;
+  }
+  if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
+  if (images_.size() < static_cast<std::size_t>(top + 1)) images_.resize(top + 1), terms_.resize(top + 1);
+  for (int k = 1; k <= top; ++k) {
+    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    if (images_[k].size() < count) images_[k].resize(count);
+    terms_[k].clear();
+  }
+  out.reused_topology = false;
+  out.general = false;
+  out.cache_valid_ = false;
+  touched_.clear();
+  for (std::size_t c = 0; c < nc; ++c)
+    if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
+      touched_.push_back(static_cast<std::uint32_t>(c));
+  // Signed values of the touched clusters' vertices.
+  const double* P = m.positions_.data();
+  for (auto c : touched_)
+    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i) {
+      const std::uint32_t v = m.cluster_vertices_[i];
+      const double s = detail::dot2_finish(detail::dot2_partial(pl.nm, P + v * n, n), pl.dm);
+      const Side side = classify_side(s, pl.tol);
+      if (side == Side::On) return false;  // symbolic perturbation: the general path
+      s_[v] = s;
+      side_[v] = static_cast<std::int8_t>(side);
+    }
+  // Rank 1: a section vertex per crossing edge.
+  out.dim = n - 1;
+  out.plane = *pl.plane;
+  out.coords.clear();
+  out.vertex_source.clear();
+  section_edge_.clear();
+  const int otop = std::max(1, std::min(top - 1, n - 1));
+  out.set_ranks(otop);
+  out.facet_normals.clear();
+  const SliceModel::Rank& E = m.ranks_[1];
+  const std::vector<std::uint32_t>& eid = E.model_id;
+  for (auto c : touched_)
+    for (std::uint32_t e = m.begin_[0][c]; e < m.begin_[0][c + 1]; ++e) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      if (side_[a] == side_[b]) continue;
+      const double t = s_[a] / (s_[a] - s_[b]);
+      double len2 = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double d = P[b * n + j] - P[a * n + j];
+        len2 += d * d;
+      }
+      const double len = std::sqrt(len2);
+      if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;  // welding: general
+      const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
+      out.vertex_source.push_back({eid.empty() ? e : eid[e], 1, t});
+      section_edge_.push_back(e);
+      images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
+      terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
+    }
+  if (out.vertex_source.empty()) {
+    clear_to_empty(out, n - 1);
+    facet_internal_.clear();
+    remember(m, pl, out);
+    return true;
+  }
+  // Ranks 2..top.
+  facet_internal_.clear();
+  for (int k = 2; k <= top; ++k) {
+    const SliceModel::Rank& R = m.ranks_[k];
+    const bool clustered_rank = k <= fr;
+    const std::size_t count = R.offsets.size() - 1;
+    auto process = [&](std::uint32_t x) -> bool {
+      chain_.clear();
+      for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
+        const Image& img = images_[k - 1][R.ids[i]];
+        if (img.gen != gen_) continue;
+        for (std::uint32_t j = img.begin; j < img.begin + img.count; ++j) {
+          const Term& t = terms_[k - 1][j];
+          chain_.push_back({t.id, -R.signs[i] * t.coef});
+        }
+      }
+      if (chain_.empty()) return true;
+      const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
+      if (!emit_element(m, k, x, out, facet_internal_, terms_[k])) return false;
+      images_[k][x] = {gen_, first, static_cast<std::uint32_t>(terms_[k].size()) - first};
+      return true;
+    };
+    if (clustered_rank) {
+      for (auto c : touched_)
+        for (std::uint32_t x = m.begin_[k - 1][c]; x < m.begin_[k - 1][c + 1]; ++x)
+          if (!process(x)) return false;
+    } else {
+      for (std::uint32_t x = 0; x < count; ++x)
+        if (!process(x)) return false;
+    }
+  }
+  if (!finish_fast(m, pl, out, section_edge_, facet_internal_)) return false;
+  remember(m, pl, out);
+  return true;
+}
+
+void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+  out.cache_model_ = &m;
+  out.cache_touched_ = touched_;
+  out.cache_side_.clear();
+  for (auto c : touched_)
+    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
+      out.cache_side_.push_back(side_[m.cluster_vertices_[i]]);
+  out.cache_edge_ = section_edge_;
+  out.cache_facet_ = facet_internal_;
+  out.cache_reflect_ = pl.reflect;
+  out.cache_valid_ = true;
+  ++fast_count_;
+}
+
+bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                         std::span<const std::uint32_t> section_edge,
+                         std::span<const std::uint32_t> facet_internal) {
+  const int n = m.dim_;
+  // Orientation as section(): the facets' cuts face outward for even n, inward for odd n, and
+  // a reflecting transform reverses them once more; solids list their facets with +1.
+  const int ofr = n - 2;
+  if (pl.reflect != (n % 2 == 1)) {
+    Incidence& table = out.boundary[ofr - 1];
+    for (std::size_t f = 0; f < table.size(); ++f) {
+      auto ids = table.ids_mut(f);
+      auto signs = table.signs_mut(f);
+      if (ofr == 1) {
+        std::swap(ids[0], ids[1]);
+      } else {
+        std::reverse(ids.begin(), ids.end());
+        std::reverse(signs.begin(), signs.end());
+        for (auto& s : signs) s = static_cast<std::int8_t>(-s);
+      }
+    }
+  }
+  if (static_cast<int>(out.boundary.size()) >= n - 1 && n - 1 >= 2) {
+    Incidence& solids = out.boundary[n - 2];
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      for (auto& s : solids.signs_mut(i)) s = 1;
+  }
+  return write_geometry(m, pl, out, section_edge, facet_internal);
+}
+
+bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                            std::span<const std::uint32_t> section_edge,
+                            std::span<const std::uint32_t> facet_internal) {
+  const int n = m.dim_;
+  const int o = n - 1;
+  const double* P = m.positions_.data();
+  // Vertices: y = M ((1 - t) a + t b) + c.
+  out.coords.resize(section_edge.size() * o);
+  for (std::size_t i = 0; i < section_edge.size(); ++i) {
+    const std::uint32_t e = section_edge[i];
+    const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
+    const double t = out.vertex_source[i].t;
+    double x[kMaxDim];
+    for (int j = 0; j < n; ++j) x[j] = (1.0 - t) * P[a * n + j] + t * P[b * n + j];
+    for (int r = 0; r < o; ++r) {
+      double sum = pl.c[r];
+      for (int j = 0; j < n; ++j) sum += pl.M[r * n + j] * x[j];
+      out.coords[i * o + r] = sum;
+    }
+  }
+  // Facet normals: the model facets' normals through A^{-T}, projected, unit.
+  out.facet_normals.resize(facet_internal.size() * o);
+  for (std::size_t f = 0; f < facet_internal.size(); ++f) {
+    const double* nf = &m.facet_normals_[facet_internal[f] * n];
+    double y[kMaxDim], len2 = 0.0;
+    for (int r = 0; r < o; ++r) {
+      double sum = 0.0;
+      for (int j = 0; j < n; ++j) sum += pl.N[r * n + j] * nf[j];
+      y[r] = sum;
+      len2 += sum * sum;
+    }
+    const double len = std::sqrt(len2);
+    if (len < 1e-9) return false;  // nearly parallel to the plane: the general path's area vector
+    for (int r = 0; r < o; ++r) out.facet_normals[f * o + r] = y[r] / len;
+  }
+  return true;
+}
+
+bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                   SliceBuffers& out) {
+  if (!out.cache_valid_ || out.cache_model_ != &m || out.cache_reflect_ != pl.reflect) return false;
+  const int n = m.dim_;
+  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nc = m.cluster_count();
+  if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
+  touched_.clear();
+  for (std::size_t c = 0; c < nc; ++c)
+    if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
+      touched_.push_back(static_cast<std::uint32_t>(c));
+  if (touched_ != out.cache_touched_) return false;
+  const double* P = m.positions_.data();
+  std::size_t k = 0;
+  for (auto c : touched_)
+    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i, ++k) {
+      const std::uint32_t v = m.cluster_vertices_[i];
+      const double s = detail::dot2_finish(detail::dot2_partial(pl.nm, P + v * n, n), pl.dm);
+      const Side side = classify_side(s, pl.tol);
+      if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k]) return false;
+      s_[v] = s;
+    }
+  // Same sides: the same connectivity. New crossing parameters, positions and normals.
+  for (std::size_t i = 0; i < out.cache_edge_.size(); ++i) {
+    const std::uint32_t e = out.cache_edge_[i];
+    const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
+    const double t = s_[a] / (s_[a] - s_[b]);
+    double len2 = 0.0;
+    for (int j = 0; j < n; ++j) {
+      const double d = P[b * n + j] - P[a * n + j];
+      len2 += d * d;
+    }
+    const double len = std::sqrt(len2);
+    if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;
+    out.vertex_source[i].t = t;
+  }
+  out.plane = *pl.plane;
+  if (!write_geometry(m, pl, out, out.cache_edge_, out.cache_facet_)) return false;
+  out.reused_topology = true;
+  out.general = false;
+  return true;
+}
+
+// --- sweeps ---------------------------------------------------------------------------------
+
+void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span<const double> offsets,
+                   const AffineTransform& xf, std::vector<SliceBuffers>& out, unsigned threads) {
+  out.resize(offsets.size());
+  if (offsets.empty()) return;
+  const Hyperplane proto = Hyperplane::from(normal, offsets[0]);
+  for (double d : offsets) (void)Hyperplane::from(normal, d);  // every offset finite
+  check_section_input(m.complex(), proto, xf);
+  std::vector<std::uint32_t> order(offsets.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return offsets[a] < offsets[b]; });
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, order.size()));
+  if (threads <= 1) {
+    sweep_layers(m, proto, xf, offsets, order, out);
+    return;
+  }
+  // Consecutive groups of layers, one Slicer per extra thread; each thread writes only its
+  // own entries of out.
+  std::vector<Slicer> helpers(threads - 1);
+  std::vector<std::thread> pool;
+  const std::size_t per = (order.size() + threads - 1) / threads;
+  std::exception_ptr failure;
+  std::mutex failure_lock;
+  for (unsigned t = 1; t < threads; ++t) {
+    const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
+    if (b >= e) continue;
+    pool.emplace_back([&, t, b, e] {
+      try {
+        helpers[t - 1].sweep_layers(m, proto, xf, offsets,
+                                    std::span<const std::uint32_t>(order).subspan(b, e - b), out);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_lock);
+        if (!failure) failure = std::current_exception();
+      }
+    });
+  }
+  try {
+    sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(0, std::min(per, order.size())), out);
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(failure_lock);
+    if (!failure) failure = std::current_exception();
+  }
+  for (auto& th : pool) th.join();
+  for (const Slicer& h : helpers) fast_count_ += h.fast_count_;
+  if (failure) std::rethrow_exception(failure);
+}
+
+void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                          std::span<const double> offsets, std::span<const std::uint32_t> layers,
+                          std::vector<SliceBuffers>& out) {
+  const std::size_t L = layers.size();
+  if (L == 0) return;
+  if (!m.fast()) {
+    for (auto k : layers) slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
+    return;
+  }
+  const int n = m.dim_;
+  const int fr = n - 1;
+  const int top = m.top_;
+  const std::size_t nv = m.positions_.size() / n;
+  const int otop = std::max(1, std::min(top - 1, n - 1));
+  Placement pl;
+  pl.set(m, plane, &xf);
+  // Per layer (in offset order): the model-space offset and the ON band.
+  layer_d_.resize(L);
+  layer_tol_.resize(L);
+  double max_tol = 0.0;
+  for (std::size_t j = 0; j < L; ++j) {
+    pl.set_offset(m, offsets[layers[j]]);
+    layer_d_[j] = pl.dm;
+    layer_tol_[j] = pl.tol;
+    max_tol = std::max(max_tol, pl.tol);
+  }
+  // Outside [h - delta, h + delta] a layer's side of a vertex at height h is certain: the band
+  // is at most max_tol and s differs from h - d by far less than another max_tol.
+  const double delta = 2.0 * max_tol;
+  auto first_layer = [&](double lo) {
+    return static_cast<std::uint32_t>(std::lower_bound(layer_d_.begin(), layer_d_.begin() + L, lo) -
+                                      layer_d_.begin());
+  };
+  auto end_layer = [&](double hi) {
+    return static_cast<std::uint32_t>(std::upper_bound(layer_d_.begin(), layer_d_.begin() + L, hi) -
+                                      layer_d_.begin());
+  };
+  layer_bad_.assign(L, 0);
+  if (layer_edges_.size() < L) layer_edges_.resize(L), layer_facets_.resize(L);
+  for (std::size_t j = 0; j < L; ++j) {
+    SliceBuffers& o = out[layers[j]];
+    o.dim = n - 1;
+    o.plane.normal = plane.normal;
+    o.plane.offset = offsets[layers[j]];
+    o.vertex_source.clear();
+    o.set_ranks(otop);
+    o.general = false;
+    o.reused_topology = false;
+    o.cache_valid_ = false;
+    layer_edges_[j].clear();
+    layer_facets_[j].clear();
+  }
+  // Heights once per vertex; vertices on a layer's plane make that layer degenerate.
+  const double* P = m.positions_.data();
+  dots_.resize(nv);
+  height_.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const detail::Dot2 d = detail::dot2_partial(pl.nm, P + v * n, n);
+    dots_[v] = {d.hi, d.lo};
+    height_[v] = d.hi + d.lo;
+    for (std::uint32_t j = first_layer(height_[v] - delta), e = end_layer(height_[v] + delta); j < e; ++j)
+      if (classify_side(detail::dot2_finish(d, layer_d_[j]), layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
+  }
+  auto value = [&](std::uint32_t v, std::uint32_t j) {
+    return detail::dot2_finish({dots_[v].first, dots_[v].second}, layer_d_[j]);
+  };
+  if (sw_lo_.size() < static_cast<std::size_t>(top + 1))
+    sw_lo_.resize(top + 1), sw_cnt_.resize(top + 1), sw_base_.resize(top + 1), sw_entry_.resize(top + 1),
+        sw_terms_.resize(top + 1);
+  // Rank 1: each edge visits the layers between its endpoints' heights.
+  {
+    const SliceModel::Rank& E = m.ranks_[1];
+    const std::size_t ne = E.offsets.size() - 1;
+    sw_lo_[1].resize(ne);
+    sw_cnt_[1].resize(ne);
+    sw_base_[1].resize(ne);
+    sw_entry_[1].clear();
+    sw_terms_[1].clear();
+    for (std::uint32_t e = 0; e < ne; ++e) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      const double h0 = std::min(height_[a], height_[b]), h1 = std::max(height_[a], height_[b]);
+      const std::uint32_t j0 = first_layer(h0 - delta), j1 = std::max(j0, end_layer(h1 + delta));
+      sw_lo_[1][e] = j0;
+      sw_cnt_[1][e] = j1 - j0;
+      sw_base_[1][e] = static_cast<std::uint32_t>(sw_entry_[1].size());
+      sw_entry_[1].resize(sw_entry_[1].size() + (j1 - j0));
+      double len = -1.0;
+      for (std::uint32_t j = j0; j < j1; ++j) {
+        if (layer_bad_[j]) continue;
+        const double sa = value(a, j), sb = value(b, j);
+        const Side pa = classify_side(sa, layer_tol_[j]), pb = classify_side(sb, layer_tol_[j]);
+        if (pa == Side::On || pb == Side::On) {
+          layer_bad_[j] = 1;
+          continue;
+        }
+        if (pa == pb) continue;
+        const double t = sa / (sa - sb);
+        if (len < 0.0) {
+          double len2 = 0.0;
+          for (int i = 0; i < n; ++i) {
+            const double d = P[b * n + i] - P[a * n + i];
+            len2 += d * d;
+          }
+          len = std::sqrt(len2);
+        }
+        if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) {
+          layer_bad_[j] = 1;
+          continue;
+        }
+        SliceBuffers& o = out[layers[j]];
+        const std::uint32_t v = static_cast<std::uint32_t>(o.vertex_source.size());
+        o.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
+        layer_edges_[j].push_back(e);
+        sw_entry_[1][sw_base_[1][e] + (j - j0)] = {static_cast<std::uint32_t>(sw_terms_[1].size()), 1};
+        sw_terms_[1].push_back({v, pa == Side::Negative ? 1 : -1});
+      }
+    }
+  }
+  // Ranks 2..top: each element visits the layers its boundary spans.
+  for (int k = 2; k <= top; ++k) {
+    const SliceModel::Rank& R = m.ranks_[k];
+    const std::size_t count = R.offsets.size() - 1;
+    sw_lo_[k].resize(count);
+    sw_cnt_[k].resize(count);
+    sw_base_[k].resize(count);
+    sw_entry_[k].clear();
+    sw_terms_[k].clear();
+    for (std::uint32_t x = 0; x < count; ++x) {
+      std::uint32_t j0 = 0xffffffffu, j1 = 0;
+      for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
+        const std::uint32_t c = R.ids[i];
+        if (sw_cnt_[k - 1][c] == 0) continue;
+        j0 = std::min(j0, sw_lo_[k - 1][c]);
+        j1 = std::max(j1, sw_lo_[k - 1][c] + sw_cnt_[k - 1][c]);
+      }
+      if (j1 <= j0) j0 = j1 = 0;
+      sw_lo_[k][x] = j0;
+      sw_cnt_[k][x] = j1 - j0;
+      sw_base_[k][x] = static_cast<std::uint32_t>(sw_entry_[k].size());
+      sw_entry_[k].resize(sw_entry_[k].size() + (j1 - j0));
+      for (std::uint32_t j = j0; j < j1; ++j) {
+        if (layer_bad_[j]) continue;
+        chain_.clear();
+        for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
+          const std::uint32_t c = R.ids[i];
+          const std::uint32_t lo = sw_lo_[k - 1][c];
+          if (j < lo || j >= lo + sw_cnt_[k - 1][c]) continue;
+          const Span img = sw_entry_[k - 1][sw_base_[k - 1][c] + (j - lo)];
+          for (std::uint32_t q = img.begin; q < img.begin + img.count; ++q) {
+            const Term& t = sw_terms_[k - 1][q];
+            chain_.push_back({t.id, -R.signs[i] * t.coef});
+          }
+        }
+        if (chain_.empty()) continue;
+        const std::uint32_t first = static_cast<std::uint32_t>(sw_terms_[k].size());
+        if (!emit_element(m, k, x, out[layers[j]], layer_facets_[j], sw_terms_[k])) {
+          layer_bad_[j] = 1;
+          continue;
+        }
+        sw_entry_[k][sw_base_[k][x] + (j - j0)] = {first, static_cast<std::uint32_t>(sw_terms_[k].size()) - first};
+      }
+    }
+  }
+  (void)fr;
+  for (std::size_t j = 0; j < L; ++j) {
+    SliceBuffers& o = out[layers[j]];
+    if (!layer_bad_[j]) {
+      if (o.vertex_source.empty()) {
+        clear_to_empty(o, n - 1);
+        ++fast_count_;
+        continue;
+      }
+      pl.set_offset(m, offsets[layers[j]]);
+      if (finish_fast(m, pl, o, layer_edges_[j], layer_facets_[j])) {
+        ++fast_count_;
+        continue;
+      }
+    }
+    // Degenerate for this layer: exactly what slice() gives.
+    slice(m, Hyperplane{plane.normal, offsets[layers[j]]}, xf, o);
+  }
+}
+
+// --- scenes ---------------------------------------------------------------------------------
+
+SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) : dim_(scene.dim()) {
+  std::unordered_map<const Complex*, const SliceModel*> compiled;
+  for (const SceneObject& obj : scene.objects) {
+    const Complex* c = obj.complex.get();
+    auto it = compiled.find(c);
+    if (it == compiled.end()) {
+      models_.push_back(std::make_unique<SliceModel>(*c, options));
+      it = compiled.emplace(c, models_.back().get()).first;
+    }
+    const SliceModel& m = *it->second;
+    // The sphere in the world: centre moved, radius stretched by the largest singular value.
+    const double stretch =
+        Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
+    objects_.push_back({&m, &obj.transform, obj.transform.apply(m.centre()), stretch * m.radius()});
+  }
+}
+
+void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads,
+                        const SliceOptions& options) {
+  if (!objects_.empty() && plane.dim() != dim_)
+    throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
+                     std::to_string(dim_));
+  out.resize(objects_.size());
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
+  if (slicers_.size() < threads) slicers_.resize(threads);
+  std::vector<char> culled(objects_.size(), 0);
+  std::size_t touched = 0;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    const Object& o = objects_[i];
+    const double margin = tol::bounding_sphere_margin_rel * (o.radius + o.centre.norm());
+    culled[i] = options.cull && std::abs(plane.signed_distance(o.centre)) > o.radius + margin;
+    touched += !culled[i];
+  }
+  touched_ = touched;
+  auto run = [&](unsigned t, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (culled[i]) {
+        clear_to_empty(out[i], dim_ - 1);
+        out[i].plane = plane;
+        out[i].general = !objects_[i].model->fast();  // as the general path's empty result
+        out[i].reused_topology = false;
+        continue;
+      }
+      slicers_[t].slice(*objects_[i].model, plane, *objects_[i].transform, out[i], options);
+    }
+  };
+  if (threads == 1) {
+    run(0, 0, objects_.size());
+    return;
+  }
+  // Blocks of consecutive objects; each thread writes only its own entries of out.
+  const std::size_t per = (objects_.size() + threads - 1) / threads;
+  std::vector<std::thread> pool;
+  std::exception_ptr failure;
+  std::mutex failure_lock;
+  for (unsigned t = 1; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      try {
+        run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_lock);
+        if (!failure) failure = std::current_exception();
+      }
+    });
+  try {
+    run(0, 0, std::min(objects_.size(), per));
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(failure_lock);
+    if (!failure) failure = std::current_exception();
+  }
+  for (auto& th : pool) th.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+// --- conversion -----------------------------------------------------------------------------
+
+Section to_section(const SliceBuffers& b) {
+  Section sec;
+  const int dim = b.dim;
+  sec.frame = HyperplaneFrame(b.plane);
+  Complex c(dim);
+  const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());
+  c.set_positions(Eigen::Map<const Eigen::MatrixXd>(b.coords.data(), dim, nv));
+  for (std::size_t r = 1; r <= b.boundary.size(); ++r) c.boundary_mut(static_cast<int>(r)) = b.boundary[r - 1];
+  const int ofr = dim - 1;
+  if (ofr >= 1 && c.count(ofr) > 0 && !b.facet_normals.empty())
+    c.set_facet_normals(Eigen::Map<const Eigen::MatrixXd>(
+        b.facet_normals.data(), dim, static_cast<Eigen::Index>(b.facet_normals.size()) / dim));
+  sec.vertex_source = b.vertex_source;
+  sec.source = b.source;
+  if (sec.source.empty()) sec.source.resize(1);
+  sec.complex = std::move(c);
+  sec.self_intersecting = self_intersects(sec.complex);
+  return sec;
+}
+
+}  // namespace cw4d

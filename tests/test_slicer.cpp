@@ -1,0 +1,308 @@
+// The slicer's fast path against the general layered cut (a second algorithm), and the speed
+// features against the plain call: sweeps, threads, culling and the topology cache must give
+// exactly (bit for bit) the buffers of Slicer::slice with a fresh plane.
+#include <catch2/catch.hpp>
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/scene.hpp"
+#include "cw4d/section/scene_section.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
+#include "support/planes.hpp"
+#include "support/registration.hpp"
+
+using namespace cw4d;
+
+namespace {
+
+// Everything a SliceBuffers exposes, compared exactly.
+void require_identical(const SliceBuffers& a, const SliceBuffers& b) {
+  REQUIRE(a.dim == b.dim);
+  REQUIRE(a.general == b.general);
+  REQUIRE(a.plane.normal == b.plane.normal);
+  REQUIRE(a.plane.offset == b.plane.offset);
+  REQUIRE(a.coords == b.coords);
+  REQUIRE(a.vertex_source.size() == b.vertex_source.size());
+  for (std::size_t i = 0; i < a.vertex_source.size(); ++i) {
+    REQUIRE(a.vertex_source[i].element == b.vertex_source[i].element);
+    REQUIRE(a.vertex_source[i].rank == b.vertex_source[i].rank);
+    REQUIRE(a.vertex_source[i].t == b.vertex_source[i].t);
+  }
+  REQUIRE(a.boundary.size() == b.boundary.size());
+  for (std::size_t r = 0; r < a.boundary.size(); ++r) {
+    REQUIRE(a.boundary[r].offsets() == b.boundary[r].offsets());
+    REQUIRE(a.boundary[r].all_ids() == b.boundary[r].all_ids());
+    REQUIRE(a.boundary[r].all_signs() == b.boundary[r].all_signs());
+  }
+  REQUIRE(a.source == b.source);
+  REQUIRE(a.facet_normals == b.facet_normals);
+}
+
+// The general path's complex equals the fast path's: the same elements in the same order, the
+// same provenance; coordinates and normals equal up to rounding.
+void require_same_section(const Section& fast, const Section& general, double scale) {
+  const Complex& a = fast.complex;
+  const Complex& b = general.complex;
+  const int top = std::max(a.top_rank(), b.top_rank());
+  for (int r = 0; r <= top; ++r) REQUIRE(a.count(r) == b.count(r));
+  for (int r = 1; r <= top; ++r) {
+    if (a.count(r) == 0) continue;
+    REQUIRE(a.boundary(r).all_ids() == b.boundary(r).all_ids());
+    REQUIRE(a.boundary(r).all_signs() == b.boundary(r).all_signs());
+    REQUIRE(fast.source[r] == general.source[r]);
+  }
+  REQUIRE(fast.vertex_source.size() == general.vertex_source.size());
+  for (std::size_t i = 0; i < fast.vertex_source.size(); ++i) {
+    REQUIRE(fast.vertex_source[i].element == general.vertex_source[i].element);
+    REQUIRE(fast.vertex_source[i].rank == general.vertex_source[i].rank);
+  }
+  if (a.count(0) > 0) REQUIRE((a.positions() - b.positions()).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+  REQUIRE(a.has_facet_normals() == b.has_facet_normals());
+  if (a.has_facet_normals() && a.facet_normals().cols() > 0)
+    REQUIRE((a.facet_normals() - b.facet_normals()).cwiseAbs().maxCoeff() <= 1e-9);
+  REQUIRE(fast.self_intersecting == general.self_intersecting);
+}
+
+AffineTransform random_placement(std::mt19937& rng, int n, bool mirror) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) m(i, j) = u(rng);
+  m += 2.0 * Eigen::MatrixXd::Identity(n, n);  // well conditioned
+  if (mirror) m.row(0) = -m.row(0);
+  if ((m.determinant() < 0) != mirror) m.row(1) = -m.row(1);
+  Eigen::VectorXd t(n);
+  for (int i = 0; i < n; ++i) t(i) = u(rng);
+  return AffineTransform(m, t);
+}
+
+Hyperplane random_plane(std::mt19937& rng, int n, double reach) {
+  std::uniform_real_distribution<double> u(-0.95, 0.95);
+  return Hyperplane::from(test::random_unit(rng, n), u(rng) * reach);
+}
+
+const std::vector<std::string>& models_4d() {
+  static const std::vector<std::string> specs = {"tesseract", "24-cell", "120-cell", "600-cell",
+                                                 "5-cell",    "duoprism:5,7", "16-cell"};
+  return specs;
+}
+
+}  // namespace
+
+TEST_CASE("the fast path builds the general path's section", "[slicer]") {
+  test::register_optional_models();
+  std::mt19937 rng(8101);
+  std::size_t fast = 0, total = 0;
+  for (const std::string& spec : models_4d()) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model, {std::size_t(-1), 256});
+    REQUIRE(compiled.fast());
+    Slicer slicer;
+    SliceBuffers buffers;
+    for (int i = 0; i < 60; ++i) {
+      const bool placed = i % 3 != 0;
+      const AffineTransform xf =
+          placed ? random_placement(rng, 4, i % 3 == 2) : AffineTransform::identity(4);
+      const Hyperplane plane = random_plane(rng, 4, 4.0 * compiled.radius());
+      slicer.slice(compiled, plane, xf, buffers);
+      const Section general = section_general(model, plane, xf);
+      require_same_section(to_section(buffers), general, 10.0 * compiled.radius());
+      fast += !buffers.general;
+      ++total;
+    }
+  }
+  // Generic planes take the fast path (this would catch a fast path that always gives up).
+  CHECK(fast == total);
+}
+
+TEST_CASE("polyhedra in R^3 take the fast path and match the general path", "[slicer]") {
+  std::mt19937 rng(8102);
+  for (const std::string spec : {"cube:3", "simplex:3", "orthoplex:3"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model);
+    REQUIRE(compiled.fast());
+    Slicer slicer;
+    SliceBuffers buffers;
+    for (int i = 0; i < 40; ++i) {
+      const AffineTransform xf = random_placement(rng, 3, i % 2 == 1);
+      const Hyperplane plane = random_plane(rng, 3, 4.0 * compiled.radius());
+      slicer.slice(compiled, plane, xf, buffers);
+      REQUIRE_FALSE(buffers.general);
+      require_same_section(to_section(buffers), section_general(model, plane, xf), 10.0);
+    }
+  }
+}
+
+TEST_CASE("degenerate planes fall back to the general path", "[slicer]") {
+  const Complex tesseract = load_model("tesseract");
+  const SliceModel compiled(tesseract);
+  Slicer slicer;
+  SliceBuffers buffers;
+  Eigen::VectorXd w(4);
+  w << 0, 0, 0, 1;
+  // Through a facet (every vertex of a cell on the plane): the general path returns the cell.
+  slicer.slice(compiled, Hyperplane::from(w, 1.0), buffers);
+  CHECK(buffers.general);
+  const Section s = to_section(buffers);
+  CHECK(std::abs(signed_volume(s.complex) - 8.0) < 1e-12);
+  // Generic: the fast path, the same cube.
+  slicer.slice(compiled, Hyperplane::from(w, 0.25), buffers);
+  CHECK_FALSE(buffers.general);
+  CHECK(std::abs(signed_volume(to_section(buffers).complex) - 8.0) < 1e-12);
+}
+
+TEST_CASE("a sweep gives every layer exactly as a single slice", "[slicer][sweep]") {
+  test::register_optional_models();
+  std::mt19937 rng(8103);
+  for (const std::string& spec : models_4d()) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model);
+    for (int round = 0; round < 4; ++round) {
+      const Eigen::VectorXd normal = test::random_unit(rng, 4) * (round + 1.0);
+      const AffineTransform xf =
+          round == 0 ? AffineTransform::identity(4) : random_placement(rng, 4, round == 3);
+      // Unsorted offsets, some repeated, some outside the model.
+      std::uniform_real_distribution<double> u(-6.0, 6.0);
+      std::vector<double> offsets(37);
+      for (double& d : offsets) d = u(rng);
+      offsets[5] = offsets[9];
+      Slicer sweeper, single;
+      std::vector<SliceBuffers> layers;
+      sweeper.sweep(compiled, normal, offsets, xf, layers);
+      REQUIRE(layers.size() == offsets.size());
+      SliceBuffers one;
+      for (std::size_t k = 0; k < offsets.size(); ++k) {
+        single.slice(compiled, Hyperplane::from(normal, offsets[k]), xf, one);
+        require_identical(layers[k], one);
+      }
+      // Threads: the same buffers.
+      std::vector<SliceBuffers> threaded;
+      Slicer().sweep(compiled, normal, offsets, xf, threaded, 3);
+      for (std::size_t k = 0; k < offsets.size(); ++k) require_identical(threaded[k], layers[k]);
+    }
+  }
+}
+
+TEST_CASE("a sweep through vertices cuts its degenerate layers like slice()", "[slicer][sweep]") {
+  const Complex tesseract = load_model("tesseract");
+  const SliceModel compiled(tesseract);
+  Eigen::VectorXd n(4);
+  n << 0, 0, 0, 2;  // vertex heights -1 and 1: three layers through facets, one within rounding
+  const std::vector<double> offsets = {-2.0, -1.0, -0.5, 0.0, 0.7, 1.0, 1.0 + 1e-17, 2.5};
+  Slicer slicer;
+  std::vector<SliceBuffers> layers;
+  slicer.sweep(compiled, n, offsets, AffineTransform::identity(4), layers);
+  SliceBuffers one;
+  int general = 0;
+  for (std::size_t k = 0; k < offsets.size(); ++k) {
+    Slicer().slice(compiled, Hyperplane::from(n, offsets[k]), one);
+    require_identical(layers[k], one);
+    general += layers[k].general;
+  }
+  CHECK(general == 3);  // the layers through the facets
+}
+
+TEST_CASE("cluster culling gives the unculled buffers", "[slicer][cull]") {
+  std::mt19937 rng(8104);
+  for (const std::string spec : {"120-cell", "600-cell"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel clustered(model, {16, 8});
+    REQUIRE(clustered.cluster_count() > 10);
+    Slicer slicer;
+    SliceBuffers culled, unculled;
+    SliceOptions no_cull;
+    no_cull.cull = false;
+    double total_volume = 0.0;
+    for (int i = 0; i < 80; ++i) {
+      const Hyperplane plane = random_plane(rng, 4, 1.3 * clustered.radius());
+      slicer.slice(clustered, plane, culled);
+      slicer.slice(clustered, plane, unculled, no_cull);
+      require_identical(culled, unculled);
+      // Renumbered, but the same solid as the unclustered path.
+      const Section a = to_section(culled), b = section(model, plane);
+      REQUIRE(a.complex.count(2) == b.complex.count(2));
+      REQUIRE(std::abs(signed_volume(a.complex) - signed_volume(b.complex)) <= 1e-10);
+      total_volume += signed_volume(a.complex);
+    }
+    CHECK(total_volume > 0.0);
+  }
+}
+
+TEST_CASE("the topology cache reuses connectivity only when it is exact", "[slicer][cache]") {
+  test::register_optional_models();
+  std::mt19937 rng(8105);
+  for (const std::string spec : {"120-cell", "tesseract", "duoprism:5,7"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model);
+    Slicer cached, fresh;
+    SliceBuffers anim, ref;
+    SliceOptions reuse;
+    reuse.reuse_topology = true;
+    const Eigen::VectorXd n = test::random_unit(rng, 4);
+    // An animation: the plane drifts slowly and the object turns a little each frame.
+    for (int frame = 0; frame < 120; ++frame) {
+      const double d = 0.3 + 1e-5 * frame + (frame % 40 == 39 ? 0.5 : 0.0);
+      const AffineTransform xf = AffineTransform::rotation(4, 0, 3, 1e-4 * frame);
+      const Hyperplane plane = Hyperplane::from(n, d);
+      cached.slice(compiled, plane, xf, anim, reuse);
+      fresh.slice(compiled, plane, xf, ref);
+      require_identical(anim, ref);
+    }
+    CHECK(cached.cached_slices() > 60);  // most frames keep their sides
+    CHECK(cached.cached_slices() < 120);  // the jumps do not
+  }
+}
+
+TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]") {
+  std::mt19937 rng(8106);
+  Scene scene;
+  auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
+  std::uniform_real_distribution<double> u(-20.0, 20.0);
+  for (int i = 0; i < 300; ++i) {
+    SceneObject obj;
+    obj.complex = i % 3 == 0 ? cell24 : tesseract;
+    obj.model = i % 3 == 0 ? "24-cell" : "tesseract";
+    Eigen::VectorXd t(4);
+    t << u(rng), u(rng), u(rng), u(rng);
+    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
+    scene.objects.push_back(obj);
+  }
+  SceneSlicer slicer(scene);
+  SliceOptions plain;
+  plain.cull = false;
+  std::size_t touched = 0;
+  for (int i = 0; i < 10; ++i) {
+    const Hyperplane plane = random_plane(rng, 4, 20.0);
+    std::vector<SliceBuffers> a, b, c;
+    slicer.slice(plane, a, 1);
+    touched += slicer.touched();
+    slicer.slice(plane, b, 1, plain);
+    REQUIRE(slicer.touched() == scene.objects.size());
+    slicer.slice(plane, c, 2);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      require_identical(a[k], b[k]);
+      require_identical(a[k], c[k]);
+    }
+    // And the Section API (section_objects) agrees with the per-object section().
+    const auto pieces = section_objects(scene, plane);
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const Section one = section(*scene.objects[k].complex, plane, scene.objects[k].transform);
+      REQUIRE(pieces[k].complex.count(2) == one.complex.count(2));
+      REQUIRE(pieces[k].complex.positions() == one.complex.positions());
+    }
+  }
+  CHECK(touched < 10 * scene.objects.size() / 2);  // the culling did skip objects
+}
