@@ -661,3 +661,26 @@ TEST_CASE("slice rejects a scene together with MODEL, --rotate or --translate", 
   CHECK(empty.code == 5);
   CHECK(!dir.exists("x.obj"));
 }
+
+TEST_CASE("bench measures the hot path, the tetrahedral path and a sweep", "[cli]") {
+  const TempDir dir;
+  const Result r = run(dir, {"bench", "24-cell", "--layers", "16", "--seconds", "0.05"});
+  INFO("stdout: " << r.out << "\nstderr: " << r.err);
+  REQUIRE(r.code == 0);
+  // Triangles per slice: a tetrahedral cut splits every k-gon of the CW cut into at least
+  // k - 2 triangles, so it never has fewer.
+  const auto number_after = [&](const std::string& label) {
+    const auto at = r.out.find(label);
+    REQUIRE(at != std::string::npos);
+    const auto us = r.out.find("us", at);
+    return std::stod(r.out.substr(us + 2));
+  };
+  const double cw = number_after("hot path (Slicer)");
+  const double tet = number_after("tetrahedral path");
+  CHECK(cw > 0.0);
+  CHECK(tet >= cw);
+  CHECK(r.out.find("slices/sweep") != std::string::npos);
+  // Bad budgets are usage errors.
+  CHECK(run(dir, {"bench", "--seconds", "0"}).code == 1);
+  CHECK(run(dir, {"bench", "cube:3"}).code == 1);
+}

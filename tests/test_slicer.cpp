@@ -236,6 +236,16 @@ TEST_CASE("cluster culling gives the unculled buffers", "[slicer][cull]") {
       total_volume += signed_volume(a.complex);
     }
     CHECK(total_volume > 0.0);
+    // A sweep of the clustered model: its layers are the (culled) slices, bit for bit.
+    const Eigen::VectorXd n = test::random_unit(rng, 4);
+    std::vector<double> offsets;
+    for (int i = 0; i < 24; ++i) offsets.push_back(-1.2 * clustered.radius() + 0.1 * i * clustered.radius());
+    std::vector<SliceBuffers> layers;
+    slicer.sweep(clustered, n, offsets, AffineTransform::identity(4), layers, 2);
+    for (std::size_t k = 0; k < offsets.size(); ++k) {
+      slicer.slice(clustered, Hyperplane::from(n, offsets[k]), culled);
+      require_identical(layers[k], culled);
+    }
   }
 }
 

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   cli::add_render_command(app, commands);
   cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
+  cli::add_bench_command(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -15,7 +15,6 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
-#include "dot2.hpp"
 #include "general.hpp"
 
 namespace cw4d {
@@ -24,6 +23,18 @@ namespace {
 
 constexpr std::uint32_t none = 0xffffffffu;
 constexpr int kMaxDim = 4;
+
+// n.x summed in a fixed order (section/ is built with -ffp-contract=off, so nothing is fused):
+// the fast path's plane value is height - d. Its rounding error is below 5 units in the last
+// place of |n| |x| + |d|, far inside the ON band (tol::plane_side_ulps), so outside the band
+// its sign is the exact sign, as plane_value's is; a sweep computes the height once per vertex
+// and gets exactly the slice's value for every offset. (Within a few ulps of the band's edge
+// the two evaluations may classify a vertex differently; both answers are valid.)
+inline double height(const double* nm, const double* x, int n) {
+  double h = nm[0] * x[0];
+  for (int i = 1; i < n; ++i) h += nm[i] * x[i];
+  return h;
+}
 
 // Morton code of a point quantised to `bits` bits per coordinate inside [lo, hi].
 std::uint64_t morton(const double* x, const double* lo, const double* hi, int n) {
@@ -103,6 +114,8 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) :
     cluster_sphere_.push_back(radius_);
     const auto& fnrm = model.facet_normals();
     facet_normals_.assign(fnrm.data(), fnrm.data() + n * nf);
+    build_cofaces();
+    find_single_solid();
     return;
   }
   // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
@@ -208,6 +221,40 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) :
     }
     sphere[n] = std::sqrt(r2);
   }
+  build_cofaces();
+  find_single_solid();
+}
+
+void SliceModel::find_single_solid() {
+  single_solid_ = false;
+  if (top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
+  const std::size_t nf = ranks_[dim_ - 1].offsets.size() - 1;
+  if (ranks_[top_].ids.size() != nf) return;
+  std::vector<char> seen(nf, 0);
+  for (auto id : ranks_[top_].ids) {
+    if (seen[id]) return;
+    seen[id] = 1;
+  }
+  single_solid_ = true;
+}
+
+void SliceModel::build_cofaces() {
+  up_offsets_.assign(top_, {});
+  up_ids_.assign(top_, {});
+  for (int k = 1; k < top_; ++k) {
+    const Rank& above = ranks_[k + 1];
+    const std::size_t count = ranks_[k].offsets.size() - 1;
+    std::vector<std::uint32_t>& off = up_offsets_[k];
+    off.assign(count + 1, 0);
+    for (auto id : above.ids) ++off[id + 1];
+    for (std::size_t i = 0; i < count; ++i) off[i + 1] += off[i];
+    std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
+    up_ids_[k].resize(above.ids.size());
+    const std::size_t rows = above.offsets.size() - 1;
+    for (std::uint32_t x = 0; x < rows; ++x)
+      for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
+        up_ids_[k][fill[above.ids[i]]++] = x;
+  }
 }
 
 std::size_t SliceModel::bytes() const {
@@ -217,6 +264,8 @@ std::size_t SliceModel::bytes() const {
   for (const Rank& r : ranks_)
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;
+  for (const auto& v : up_offsets_) b += v.size() * 4;
+  for (const auto& v : up_ids_) b += v.size() * 4;
   return b;
 }
 
@@ -439,7 +488,12 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
     if (std::abs(t.coef) != 1) return false;
     steps_.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
   }
-  std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+  // Insertion sort (a cell's cut has a handful of steps); with distinct tails any sort gives
+  // the general path's order, and repeated tails (a pinched cut) are left to the general path.
+  for (std::size_t i = 1; i < steps_.size(); ++i)
+    for (std::size_t j = i; j > 0 && steps_[j].tail < steps_[j - 1].tail; --j) std::swap(steps_[j], steps_[j - 1]);
+  for (std::size_t i = 1; i < steps_.size(); ++i)
+    if (steps_[i].tail == steps_[i - 1].tail) return false;
   auto find_from = [&](std::uint32_t tail) -> Step* {
     auto it = std::lower_bound(steps_.begin(), steps_.end(), tail,
                                [](const Step& s, std::uint32_t v) { return s.tail < v; });
@@ -475,7 +529,12 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
 bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
                           std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
   // The chain (gathered in chain_) summed per id, as the general path's combine().
-  std::sort(chain_.begin(), chain_.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
+  if (chain_.size() <= 16) {  // (equal ids are summed, so their order does not matter)
+    for (std::size_t i = 1; i < chain_.size(); ++i)
+      for (std::size_t j = i; j > 0 && chain_[j].id < chain_[j - 1].id; --j) std::swap(chain_[j], chain_[j - 1]);
+  } else {
+    std::sort(chain_.begin(), chain_.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
+  }
   std::size_t w = 0;
   for (std::size_t i = 0; i < chain_.size();) {
     std::size_t j = i;
@@ -520,8 +579,29 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
   return true;
 }
 
+void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
+  const std::vector<std::uint32_t>& off = m.up_offsets_[k];
+  const std::vector<std::uint32_t>& ids = m.up_ids_[k];
+  std::vector<std::uint64_t>& bits = mark_[k + 1];
+  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) bits[ids[i] >> 6] |= std::uint64_t{1} << (ids[i] & 63);
+}
+
 bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                         SliceBuffers& out) {
+  const int top = m.top_;
+  if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
+  for (int k = 2; k <= top; ++k) {
+    const std::size_t words = (m.ranks_[k].offsets.size() - 1 + 63) / 64;
+    if (mark_[k].size() < words) mark_[k].resize(words, 0);
+  }
+  if (fast_slice_marked(m, pl, options, out)) return true;
+  // Given up half way: no marks may survive into the next slice.
+  for (int k = 2; k <= top; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
+  return false;
+}
+
+bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                               SliceBuffers& out) {
   const int n = m.dim_;
   const int fr = n - 1;
   const int top = m.top_;
@@ -550,7 +630,7 @@ bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOpt
   for (auto c : touched_)
     for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i) {
       const std::uint32_t v = m.cluster_vertices_[i];
-      const double s = detail::dot2_finish(detail::dot2_partial(pl.nm, P + v * n, n), pl.dm);
+      const double s = height(pl.nm, P + v * n, n) - pl.dm;
       const Side side = classify_side(s, pl.tol);
       if (side == Side::On) return false;  // symbolic perturbation: the general path
       s_[v] = s;
@@ -584,19 +664,22 @@ bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOpt
       section_edge_.push_back(e);
       images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
       terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
+      mark_parents(m, 1, e);
     }
   if (out.vertex_source.empty()) {
     clear_to_empty(out, n - 1);
     facet_internal_.clear();
-    remember(m, pl, out);
+    if (options.reuse_topology) remember(m, pl, out);
+    ++fast_count_;
     return true;
   }
-  // Ranks 2..top.
+  // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
+  // increasing id order within each touched cluster, so the order is that of a full scan.
   facet_internal_.clear();
   for (int k = 2; k <= top; ++k) {
     const SliceModel::Rank& R = m.ranks_[k];
-    const bool clustered_rank = k <= fr;
     const std::size_t count = R.offsets.size() - 1;
+    std::vector<std::uint64_t>& bits = mark_[k];
     auto process = [&](std::uint32_t x) -> bool {
       chain_.clear();
       for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
@@ -610,20 +693,53 @@ bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOpt
       if (chain_.empty()) return true;
       const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
       if (!emit_element(m, k, x, out, facet_internal_, terms_[k])) return false;
-      images_[k][x] = {gen_, first, static_cast<std::uint32_t>(terms_[k].size()) - first};
+      const std::uint32_t produced = static_cast<std::uint32_t>(terms_[k].size()) - first;
+      images_[k][x] = {gen_, first, produced};
+      if (produced > 0 && k < top) mark_parents(m, k, x);
       return true;
     };
-    if (clustered_rank) {
-      for (auto c : touched_)
-        for (std::uint32_t x = m.begin_[k - 1][c]; x < m.begin_[k - 1][c + 1]; ++x)
+    // Visits (and clears) the marked elements of [b, e) in increasing order.
+    auto visit = [&](std::uint32_t b, std::uint32_t e) -> bool {
+      if (b >= e) return true;
+      for (std::uint32_t w = b >> 6, last = (e - 1) >> 6; w <= last; ++w) {
+        std::uint64_t mask = ~std::uint64_t{0};
+        if (w == (b >> 6)) mask &= ~std::uint64_t{0} << (b & 63);
+        if (w == last) mask &= ~std::uint64_t{0} >> (63 - ((e - 1) & 63));
+        std::uint64_t sel = bits[w] & mask;
+        bits[w] &= ~mask;
+        while (sel) {
+          const std::uint32_t x = w * 64 + static_cast<std::uint32_t>(__builtin_ctzll(sel));
+          sel &= sel - 1;
           if (!process(x)) return false;
-    } else {
-      for (std::uint32_t x = 0; x < count; ++x)
-        if (!process(x)) return false;
+        }
+      }
+      return true;
+    };
+    if (k == top && m.single_solid_) {
+      // The one solid bounded by every facet once: its cut is every section facet, in order.
+      if (bits[0] & 1u) {
+        bits[0] = 0;
+        Incidence& table = out.boundary[k - 2];
+        const std::uint32_t nf = static_cast<std::uint32_t>(out.boundary[k - 3].size());
+        row_ids_.resize(nf);
+        row_signs_.assign(nf, 1);
+        for (std::uint32_t i = 0; i < nf; ++i) row_ids_[i] = i;
+        table.add_row(row_ids_, row_signs_);
+        out.source[k - 1].push_back(R.model_id.empty() ? 0 : R.model_id[0]);
+      }
+      continue;
+    }
+    if (k <= fr) {
+      for (auto c : touched_)
+        if (!visit(m.begin_[k - 1][c], m.begin_[k - 1][c + 1])) return false;
+    } else if (!visit(0, static_cast<std::uint32_t>(count))) {
+      return false;
     }
   }
   if (!finish_fast(m, pl, out, section_edge_, facet_internal_)) return false;
-  remember(m, pl, out);
+  // The topology cache is kept only for callers that use it (animation frames).
+  if (options.reuse_topology) remember(m, pl, out);
+  ++fast_count_;
   return true;
 }
 
@@ -638,7 +754,6 @@ void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& ou
   out.cache_facet_ = facet_internal_;
   out.cache_reflect_ = pl.reflect;
   out.cache_valid_ = true;
-  ++fast_count_;
 }
 
 bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
@@ -725,7 +840,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   for (auto c : touched_)
     for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i, ++k) {
       const std::uint32_t v = m.cluster_vertices_[i];
-      const double s = detail::dot2_finish(detail::dot2_partial(pl.nm, P + v * n, n), pl.dm);
+      const double s = height(pl.nm, P + v * n, n) - pl.dm;
       const Side side = classify_side(s, pl.tol);
       if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k]) return false;
       s_[v] = s;
@@ -828,7 +943,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     max_tol = std::max(max_tol, pl.tol);
   }
   // Outside [h - delta, h + delta] a layer's side of a vertex at height h is certain: the band
-  // is at most max_tol and s differs from h - d by far less than another max_tol.
+  // is at most max_tol (and s = h - d is rounded once).
   const double delta = 2.0 * max_tol;
   auto first_layer = [&](double lo) {
     return static_cast<std::uint32_t>(std::lower_bound(layer_d_.begin(), layer_d_.begin() + L, lo) -
@@ -855,18 +970,14 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   }
   // Heights once per vertex; vertices on a layer's plane make that layer degenerate.
   const double* P = m.positions_.data();
-  dots_.resize(nv);
   height_.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
-    const detail::Dot2 d = detail::dot2_partial(pl.nm, P + v * n, n);
-    dots_[v] = {d.hi, d.lo};
-    height_[v] = d.hi + d.lo;
-    for (std::uint32_t j = first_layer(height_[v] - delta), e = end_layer(height_[v] + delta); j < e; ++j)
-      if (classify_side(detail::dot2_finish(d, layer_d_[j]), layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
+    const double h = height(pl.nm, P + v * n, n);
+    height_[v] = h;
+    for (std::uint32_t j = first_layer(h - delta), e = end_layer(h + delta); j < e; ++j)
+      if (classify_side(h - layer_d_[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
   }
-  auto value = [&](std::uint32_t v, std::uint32_t j) {
-    return detail::dot2_finish({dots_[v].first, dots_[v].second}, layer_d_[j]);
-  };
+  auto value = [&](std::uint32_t v, std::uint32_t j) { return height_[v] - layer_d_[j]; };
   if (sw_lo_.size() < static_cast<std::size_t>(top + 1))
     sw_lo_.resize(top + 1), sw_cnt_.resize(top + 1), sw_base_.resize(top + 1), sw_entry_.resize(top + 1),
         sw_terms_.resize(top + 1);
@@ -928,6 +1039,20 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     sw_base_[k].resize(count);
     sw_entry_[k].clear();
     sw_terms_[k].clear();
+    if (k == top && m.single_solid_) {
+      // As in a slice: the one solid's cut is every section facet of the layer, in order.
+      for (std::size_t j = 0; j < L; ++j) {
+        SliceBuffers& o = out[layers[j]];
+        const std::uint32_t nf = static_cast<std::uint32_t>(o.boundary[k - 3].size());
+        if (layer_bad_[j] || nf == 0) continue;
+        row_ids_.resize(nf);
+        row_signs_.assign(nf, 1);
+        for (std::uint32_t i = 0; i < nf; ++i) row_ids_[i] = i;
+        o.boundary[k - 2].add_row(row_ids_, row_signs_);
+        o.source[k - 1].push_back(R.model_id.empty() ? 0 : R.model_id[0]);
+      }
+      continue;
+    }
     for (std::uint32_t x = 0; x < count; ++x) {
       std::uint32_t j0 = 0xffffffffu, j1 = 0;
       for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {

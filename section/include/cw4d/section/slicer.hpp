@@ -71,6 +71,13 @@ class SliceModel {
   std::vector<double> positions_;        // dim_ per internal vertex
   std::vector<std::uint32_t> vertex_id_; // internal vertex -> model vertex (empty: identity)
   std::vector<Rank> ranks_;              // ranks_[k], k = 1..top_ (ranks_[0] unused)
+  // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
+  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach.
+  std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
+  void build_cofaces();
+  // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
+  bool single_solid_ = false;
+  void find_single_solid();
   std::vector<double> facet_normals_;    // dim_ per internal facet
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
@@ -130,8 +137,9 @@ Section to_section(const SliceBuffers& buffers);
 struct SliceOptions {
   /// Skip clusters (and, in scenes, objects) whose bounding sphere misses the plane.
   bool cull = true;
-  /// Reuse the connectivity already in `out` when it came from the same model and no vertex
-  /// changed side (only positions and normals are recomputed).
+  /// Reuse the connectivity already in `out` when the previous slice into `out` also asked for
+  /// it, came from the same model, and no vertex changed side (only the crossing parameters,
+  /// positions and normals are recomputed). Slices that do not ask keep no cache.
   bool reuse_topology = false;
 };
 
@@ -208,6 +216,10 @@ class Slicer {
   std::vector<Term> chain_, image_;
   std::vector<Step> steps_;
   std::vector<std::uint32_t> touched_;
+  std::vector<std::vector<std::uint64_t>> mark_;  // mark_[k]: rank k elements to visit (bits)
+  void mark_parents(const SliceModel& m, int k, std::uint32_t x);
+  bool fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                         SliceBuffers& out);
   std::vector<std::uint32_t> section_edge_;  // internal model edge of each section vertex
   std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
   std::vector<std::uint32_t> row_ids_;
@@ -217,7 +229,6 @@ class Slicer {
   struct Span {
     std::uint32_t begin = 0, count = 0;
   };
-  std::vector<std::pair<double, double>> dots_;
   std::vector<double> height_, layer_d_, layer_tol_;
   std::vector<std::uint32_t> layer_order_;
   std::vector<std::vector<std::uint32_t>> sw_lo_, sw_cnt_, sw_base_;
