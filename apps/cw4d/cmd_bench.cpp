@@ -106,12 +106,14 @@ void run_bench(const BenchSettings& s) {
   std::vector<double> offsets(s.layers);
   for (int i = 0; i < s.layers; ++i)
     offsets[i] = compiled.radius() * (-1.0 + 2.0 * (i + 0.5) / s.layers);
-  std::vector<SliceBuffers> layers;
+  // Both sides keep all layers (a buffer each), as a caller that wants the sweep does.
+  std::vector<SliceBuffers> layers, separate(offsets.size());
   const AffineTransform identity = AffineTransform::identity(4);
   auto sweep1 = [&] { slicer.sweep(compiled, normal, offsets, identity, layers, 1); };
   auto sweepT = [&] { slicer.sweep(compiled, normal, offsets, identity, layers, threads); };
   auto singles = [&] {
-    for (double d : offsets) slicer.slice(compiled, Hyperplane::from(normal, d), out);
+    for (std::size_t i = 0; i < offsets.size(); ++i)
+      slicer.slice(compiled, Hyperplane::from(normal, offsets[i]), separate[i]);
   };
   const auto t2 = per_call({sweep1, singles, sweepT}, s.seconds);
   std::printf("  sweep of %d layers, one pass  %9.2f ms\n", s.layers, t2[0] * 1e3);

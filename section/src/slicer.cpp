@@ -30,6 +30,26 @@ constexpr int kMaxDim = 4;
 // its sign is the exact sign, as plane_value's is; a sweep computes the height once per vertex
 // and gets exactly the slice's value for every offset. (Within a few ulps of the band's edge
 // the two evaluations may classify a vertex differently; both answers are valid.)
+// Calls f(x) for every set bit x of [b, e), in increasing order, clearing those bits; stops
+// (returning false) when f does.
+template <class F>
+bool visit_marked(std::vector<std::uint64_t>& bits, std::uint32_t b, std::uint32_t e, F&& f) {
+  if (b >= e) return true;
+  for (std::uint32_t w = b >> 6, last = (e - 1) >> 6; w <= last; ++w) {
+    std::uint64_t mask = ~std::uint64_t{0};
+    if (w == (b >> 6)) mask &= ~std::uint64_t{0} << (b & 63);
+    if (w == last) mask &= ~std::uint64_t{0} >> (63 - ((e - 1) & 63));
+    std::uint64_t sel = bits[w] & mask;
+    bits[w] &= ~mask;
+    while (sel) {
+      const std::uint32_t x = w * 64 + static_cast<std::uint32_t>(__builtin_ctzll(sel));
+      sel &= sel - 1;
+      if (!f(x)) return false;
+    }
+  }
+  return true;
+}
+
 inline double height(const double* nm, const double* x, int n) {
   double h = nm[0] * x[0];
   for (int i = 1; i < n; ++i) h += nm[i] * x[i];
@@ -227,7 +247,9 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) :
 
 void SliceModel::find_single_solid() {
   single_solid_ = false;
-  if (top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
+  // (only where the solid's cut is a rank >= 3 element, a set of facets; in R^3 it is a
+  // polygon, whose loops emit_loops orders)
+  if (dim_ < 4 || top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
   const std::size_t nf = ranks_[dim_ - 1].offsets.size() - 1;
   if (ranks_[top_].ids.size() != nf) return;
   std::vector<char> seen(nf, 0);
@@ -388,7 +410,10 @@ struct Slicer::Placement {
   }
 
   // The plane offset d (world) for this slice.
+  double offset = 0.0;  // the world-space plane offset of this slice
+
   void set_offset(const SliceModel& m, double d) {
+    offset = d;
     double nt = 0.0;
     for (int i = 0; i < n; ++i) nt += plane->normal[i] * t[i];
     dm = d - nt;
@@ -488,10 +513,14 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
     if (std::abs(t.coef) != 1) return false;
     steps_.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
   }
-  // Insertion sort (a cell's cut has a handful of steps); with distinct tails any sort gives
-  // the general path's order, and repeated tails (a pinched cut) are left to the general path.
-  for (std::size_t i = 1; i < steps_.size(); ++i)
-    for (std::size_t j = i; j > 0 && steps_[j].tail < steps_[j - 1].tail; --j) std::swap(steps_[j], steps_[j - 1]);
+  // With distinct tails any sort gives the general path's order (repeated tails, a pinched
+  // cut, are left to the general path); a cell's cut usually has a handful of steps.
+  if (steps_.size() <= 16) {
+    for (std::size_t i = 1; i < steps_.size(); ++i)
+      for (std::size_t j = i; j > 0 && steps_[j].tail < steps_[j - 1].tail; --j) std::swap(steps_[j], steps_[j - 1]);
+  } else {
+    std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+  }
   for (std::size_t i = 1; i < steps_.size(); ++i)
     if (steps_[i].tail == steps_[i - 1].tail) return false;
   auto find_from = [&](std::uint32_t tail) -> Step* {
@@ -588,39 +617,77 @@ void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
 
 bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                         SliceBuffers& out) {
-  const int top = m.top_;
-  if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
-  for (int k = 2; k <= top; ++k) {
-    const std::size_t words = (m.ranks_[k].offsets.size() - 1 + 63) / 64;
-    if (mark_[k].size() < words) mark_[k].resize(words, 0);
-  }
+  prepare(m);
   if (fast_slice_marked(m, pl, options, out)) return true;
-  // Given up half way: no marks may survive into the next slice.
-  for (int k = 2; k <= top; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
+  clear_marks(m);
   return false;
 }
 
-bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                               SliceBuffers& out) {
-  const int n = m.dim_;
-  const int fr = n - 1;
+void Slicer::clear_marks(const SliceModel& m) {
+  // Given up half way: no marks may survive into the next slice.
+  for (int k = 1; k <= m.top_; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
+}
+
+void Slicer::prepare(const SliceModel& m) {
   const int top = m.top_;
-  const std::size_t nv = m.positions_.size() / n;
-  const std::size_t nc = m.cluster_count();
+  const std::size_t nv = m.positions_.size() / m.dim_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
     gen_ = 1;
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   if (images_.size() < static_cast<std::size_t>(top + 1)) images_.resize(top + 1), terms_.resize(top + 1);
+  if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
   for (int k = 1; k <= top; ++k) {
     const std::size_t count = m.ranks_[k].offsets.size() - 1;
     if (images_[k].size() < count) images_[k].resize(count);
     terms_[k].clear();
+    if (mark_[k].size() < (count + 63) / 64) mark_[k].resize((count + 63) / 64, 0);
   }
+}
+
+void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+  const int n = m.dim_;
   out.reused_topology = false;
   out.general = false;
   out.cache_valid_ = false;
+  out.dim = n - 1;
+  out.plane.normal = pl.plane->normal;
+  out.plane.offset = pl.offset;
+  out.coords.clear();
+  out.vertex_source.clear();
+  section_edge_.clear();
+  facet_internal_.clear();
+  out.set_ranks(std::max(1, std::min(m.top_ - 1, n - 1)));
+  out.facet_normals.clear();
+}
+
+bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+  const int n = m.dim_;
+  const double* P = m.positions_.data();
+  const SliceModel::Rank& E = m.ranks_[1];
+  const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+  const double t = s_[a] / (s_[a] - s_[b]);
+  double len2 = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double d = P[b * n + j] - P[a * n + j];
+    len2 += d * d;
+  }
+  const double len = std::sqrt(len2);
+  if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;  // welding: general
+  const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
+  out.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
+  section_edge_.push_back(e);
+  images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
+  terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
+  mark_parents(m, 1, e);
+  return true;
+}
+
+bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                               SliceBuffers& out) {
+  const int n = m.dim_;
+  const std::size_t nc = m.cluster_count();
   touched_.clear();
   for (std::size_t c = 0; c < nc; ++c)
     if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
@@ -636,59 +703,48 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
       s_[v] = s;
       side_[v] = static_cast<std::int8_t>(side);
     }
-  // Rank 1: a section vertex per crossing edge.
-  out.dim = n - 1;
-  out.plane = *pl.plane;
-  out.coords.clear();
-  out.vertex_source.clear();
-  section_edge_.clear();
-  const int otop = std::max(1, std::min(top - 1, n - 1));
-  out.set_ranks(otop);
-  out.facet_normals.clear();
+  // Rank 1: a section vertex per crossing edge, in id order.
+  start_buffers(m, pl, out);
   const SliceModel::Rank& E = m.ranks_[1];
-  const std::vector<std::uint32_t>& eid = E.model_id;
   for (auto c : touched_)
-    for (std::uint32_t e = m.begin_[0][c]; e < m.begin_[0][c + 1]; ++e) {
-      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
-      if (side_[a] == side_[b]) continue;
-      const double t = s_[a] / (s_[a] - s_[b]);
-      double len2 = 0.0;
-      for (int j = 0; j < n; ++j) {
-        const double d = P[b * n + j] - P[a * n + j];
-        len2 += d * d;
-      }
-      const double len = std::sqrt(len2);
-      if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;  // welding: general
-      const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
-      out.vertex_source.push_back({eid.empty() ? e : eid[e], 1, t});
-      section_edge_.push_back(e);
-      images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
-      terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
-      mark_parents(m, 1, e);
-    }
+    for (std::uint32_t e = m.begin_[0][c]; e < m.begin_[0][c + 1]; ++e)
+      if (side_[E.ids[2 * e]] != side_[E.ids[2 * e + 1]] && !add_crossing(m, e, out)) return false;
   if (out.vertex_source.empty()) {
     clear_to_empty(out, n - 1);
-    facet_internal_.clear();
     if (options.reuse_topology) remember(m, pl, out);
     ++fast_count_;
     return true;
   }
+  if (!cut_upper(m, pl, out)) return false;
+  // The topology cache is kept only for callers that use it (animation frames).
+  if (options.reuse_topology) remember(m, pl, out);
+  ++fast_count_;
+  return true;
+}
+
+bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+  const int fr = m.dim_ - 1;
+  const int top = m.top_;
   // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
   // increasing id order within each touched cluster, so the order is that of a full scan.
-  facet_internal_.clear();
   for (int k = 2; k <= top; ++k) {
     const SliceModel::Rank& R = m.ranks_[k];
     const std::size_t count = R.offsets.size() - 1;
     std::vector<std::uint64_t>& bits = mark_[k];
+    // (rank k - 1 is complete: its images and terms stay put while rank k is cut)
+    const Image* below = images_[k - 1].data();
+    const Term* below_terms = terms_[k - 1].data();
+    const std::uint32_t* offsets = R.offsets.data();
+    const std::uint32_t* ids = R.ids.data();
+    const std::int8_t* signs = R.signs.data();
+    const std::uint32_t gen = gen_;
     auto process = [&](std::uint32_t x) -> bool {
       chain_.clear();
-      for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
-        const Image& img = images_[k - 1][R.ids[i]];
-        if (img.gen != gen_) continue;
-        for (std::uint32_t j = img.begin; j < img.begin + img.count; ++j) {
-          const Term& t = terms_[k - 1][j];
-          chain_.push_back({t.id, -R.signs[i] * t.coef});
-        }
+      for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
+        const Image img = below[ids[i]];
+        if (img.gen != gen) continue;
+        for (std::uint32_t j = img.begin; j < img.begin + img.count; ++j)
+          chain_.push_back({below_terms[j].id, -signs[i] * below_terms[j].coef});
       }
       if (chain_.empty()) return true;
       const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
@@ -698,23 +754,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
       if (produced > 0 && k < top) mark_parents(m, k, x);
       return true;
     };
-    // Visits (and clears) the marked elements of [b, e) in increasing order.
-    auto visit = [&](std::uint32_t b, std::uint32_t e) -> bool {
-      if (b >= e) return true;
-      for (std::uint32_t w = b >> 6, last = (e - 1) >> 6; w <= last; ++w) {
-        std::uint64_t mask = ~std::uint64_t{0};
-        if (w == (b >> 6)) mask &= ~std::uint64_t{0} << (b & 63);
-        if (w == last) mask &= ~std::uint64_t{0} >> (63 - ((e - 1) & 63));
-        std::uint64_t sel = bits[w] & mask;
-        bits[w] &= ~mask;
-        while (sel) {
-          const std::uint32_t x = w * 64 + static_cast<std::uint32_t>(__builtin_ctzll(sel));
-          sel &= sel - 1;
-          if (!process(x)) return false;
-        }
-      }
-      return true;
-    };
+    auto visit = [&](std::uint32_t b, std::uint32_t e) { return visit_marked(bits, b, e, process); };
     if (k == top && m.single_solid_) {
       // The one solid bounded by every facet once: its cut is every section facet, in order.
       if (bits[0] & 1u) {
@@ -736,11 +776,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
       return false;
     }
   }
-  if (!finish_fast(m, pl, out, section_edge_, facet_internal_)) return false;
-  // The topology cache is kept only for callers that use it (animation frames).
-  if (options.reuse_topology) remember(m, pl, out);
-  ++fast_count_;
-  return true;
+  return finish_fast(m, pl, out, section_edge_, facet_internal_);
 }
 
 void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
@@ -873,9 +909,11 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   out.resize(offsets.size());
   if (offsets.empty()) return;
   const Hyperplane proto = Hyperplane::from(normal, offsets[0]);
-  for (double d : offsets) (void)Hyperplane::from(normal, d);  // every offset finite
+  for (double d : offsets)
+    if (!std::isfinite(d)) throw InputError("hyperplane offset is not finite");
   check_section_input(m.complex(), proto, xf);
-  std::vector<std::uint32_t> order(offsets.size());
+  std::vector<std::uint32_t>& order = sweep_order_;
+  order.resize(offsets.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return offsets[a] < offsets[b]; });
@@ -885,34 +923,30 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
     sweep_layers(m, proto, xf, offsets, order, out);
     return;
   }
-  // Consecutive groups of layers, one Slicer per extra thread; each thread writes only its
-  // own entries of out.
-  std::vector<Slicer> helpers(threads - 1);
+  // Consecutive groups of layers in offset order, one Slicer per extra thread (kept for the
+  // next sweep); each thread writes only its own entries of out.
+  if (helpers_.size() < threads - 1) helpers_.resize(threads - 1);
+  std::vector<std::size_t> before(threads - 1);
+  for (unsigned t = 0; t + 1 < threads; ++t) before[t] = helpers_[t].fast_count_;
   std::vector<std::thread> pool;
   const std::size_t per = (order.size() + threads - 1) / threads;
   std::exception_ptr failure;
   std::mutex failure_lock;
+  auto run = [&](Slicer& slicer, std::size_t b, std::size_t e) {
+    try {
+      slicer.sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b), out);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(failure_lock);
+      if (!failure) failure = std::current_exception();
+    }
+  };
   for (unsigned t = 1; t < threads; ++t) {
     const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
-    if (b >= e) continue;
-    pool.emplace_back([&, t, b, e] {
-      try {
-        helpers[t - 1].sweep_layers(m, proto, xf, offsets,
-                                    std::span<const std::uint32_t>(order).subspan(b, e - b), out);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_lock);
-        if (!failure) failure = std::current_exception();
-      }
-    });
+    if (b < e) pool.emplace_back([&, t, b, e] { run(helpers_[t - 1], b, e); });
   }
-  try {
-    sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(0, std::min(per, order.size())), out);
-  } catch (...) {
-    std::lock_guard<std::mutex> lock(failure_lock);
-    if (!failure) failure = std::current_exception();
-  }
+  run(*this, 0, std::min(per, order.size()));
   for (auto& th : pool) th.join();
-  for (const Slicer& h : helpers) fast_count_ += h.fast_count_;
+  for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
   if (failure) std::rethrow_exception(failure);
 }
 
@@ -921,15 +955,16 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
                           std::vector<SliceBuffers>& out) {
   const std::size_t L = layers.size();
   if (L == 0) return;
+  auto single = [&](std::uint32_t k) {
+    slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
+  };
   if (!m.fast()) {
-    for (auto k : layers) slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
+    for (auto k : layers) single(k);
     return;
   }
   const int n = m.dim_;
-  const int fr = n - 1;
-  const int top = m.top_;
   const std::size_t nv = m.positions_.size() / n;
-  const int otop = std::max(1, std::min(top - 1, n - 1));
+  const std::size_t nc = m.cluster_count();
   Placement pl;
   pl.set(m, plane, &xf);
   // Per layer (in offset order): the model-space offset and the ON band.
@@ -942,170 +977,95 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     layer_tol_[j] = pl.tol;
     max_tol = std::max(max_tol, pl.tol);
   }
-  // Outside [h - delta, h + delta] a layer's side of a vertex at height h is certain: the band
-  // is at most max_tol (and s = h - d is rounded once).
-  const double delta = 2.0 * max_tol;
-  auto first_layer = [&](double lo) {
-    return static_cast<std::uint32_t>(std::lower_bound(layer_d_.begin(), layer_d_.begin() + L, lo) -
-                                      layer_d_.begin());
+  const double* D = layer_d_.data();
+  auto first_above = [&](double h) {  // first layer with d > h
+    return static_cast<std::uint32_t>(std::upper_bound(D, D + L, h) - D);
   };
-  auto end_layer = [&](double hi) {
-    return static_cast<std::uint32_t>(std::upper_bound(layer_d_.begin(), layer_d_.begin() + L, hi) -
-                                      layer_d_.begin());
-  };
-  layer_bad_.assign(L, 0);
-  if (layer_edges_.size() < L) layer_edges_.resize(L), layer_facets_.resize(L);
-  for (std::size_t j = 0; j < L; ++j) {
-    SliceBuffers& o = out[layers[j]];
-    o.dim = n - 1;
-    o.plane.normal = plane.normal;
-    o.plane.offset = offsets[layers[j]];
-    o.vertex_source.clear();
-    o.set_ranks(otop);
-    o.general = false;
-    o.reused_topology = false;
-    o.cache_valid_ = false;
-    layer_edges_[j].clear();
-    layer_facets_[j].clear();
-  }
-  // Heights once per vertex; vertices on a layer's plane make that layer degenerate.
+  // Heights once per vertex. A vertex within a layer's ON band sends that layer to slice().
   const double* P = m.positions_.data();
   height_.resize(nv);
+  layer_bad_.assign(L, 0);
   for (std::size_t v = 0; v < nv; ++v) {
     const double h = height(pl.nm, P + v * n, n);
     height_[v] = h;
-    for (std::uint32_t j = first_layer(h - delta), e = end_layer(h + delta); j < e; ++j)
-      if (classify_side(h - layer_d_[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
+    const double delta = 2.0 * max_tol;
+    for (std::uint32_t j = static_cast<std::uint32_t>(std::lower_bound(D, D + L, h - delta) - D);
+         j < L && D[j] <= h + delta; ++j)
+      if (classify_side(h - D[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
   }
-  auto value = [&](std::uint32_t v, std::uint32_t j) { return height_[v] - layer_d_[j]; };
-  if (sw_lo_.size() < static_cast<std::size_t>(top + 1))
-    sw_lo_.resize(top + 1), sw_cnt_.resize(top + 1), sw_base_.resize(top + 1), sw_entry_.resize(top + 1),
-        sw_terms_.resize(top + 1);
-  // Rank 1: each edge visits the layers between its endpoints' heights.
+  // Without ON vertices, edge (a, b) crosses layer j exactly when lo < d_j < hi for its end
+  // heights lo < hi (the sign of the rounded h - d is the sign of h - d). Edges enter the
+  // active set at the first layer above lo (bucketed by that layer) and leave it at the first
+  // layer at or above hi, so each layer sees its crossing edges and the few that just expired.
+  const SliceModel::Rank& E = m.ranks_[1];
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  bucket_offsets_.assign(L + 2, 0);
+  edge_top_.resize(ne);
+  edge_start_.resize(ne);
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    const double ha = height_[E.ids[2 * e]], hb = height_[E.ids[2 * e + 1]];
+    const std::uint32_t j = first_above(std::min(ha, hb));
+    edge_start_[e] = j;
+    edge_top_[e] = std::max(ha, hb);
+    ++bucket_offsets_[j + 1];
+  }
+  for (std::size_t j = 0; j <= L; ++j) bucket_offsets_[j + 1] += bucket_offsets_[j];
+  bucket_ids_.resize(ne);
   {
-    const SliceModel::Rank& E = m.ranks_[1];
-    const std::size_t ne = E.offsets.size() - 1;
-    sw_lo_[1].resize(ne);
-    sw_cnt_[1].resize(ne);
-    sw_base_[1].resize(ne);
-    sw_entry_[1].clear();
-    sw_terms_[1].clear();
-    for (std::uint32_t e = 0; e < ne; ++e) {
-      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
-      const double h0 = std::min(height_[a], height_[b]), h1 = std::max(height_[a], height_[b]);
-      const std::uint32_t j0 = first_layer(h0 - delta), j1 = std::max(j0, end_layer(h1 + delta));
-      sw_lo_[1][e] = j0;
-      sw_cnt_[1][e] = j1 - j0;
-      sw_base_[1][e] = static_cast<std::uint32_t>(sw_entry_[1].size());
-      sw_entry_[1].resize(sw_entry_[1].size() + (j1 - j0));
-      double len = -1.0;
-      for (std::uint32_t j = j0; j < j1; ++j) {
-        if (layer_bad_[j]) continue;
-        const double sa = value(a, j), sb = value(b, j);
-        const Side pa = classify_side(sa, layer_tol_[j]), pb = classify_side(sb, layer_tol_[j]);
-        if (pa == Side::On || pb == Side::On) {
-          layer_bad_[j] = 1;
-          continue;
-        }
-        if (pa == pb) continue;
-        const double t = sa / (sa - sb);
-        if (len < 0.0) {
-          double len2 = 0.0;
-          for (int i = 0; i < n; ++i) {
-            const double d = P[b * n + i] - P[a * n + i];
-            len2 += d * d;
-          }
-          len = std::sqrt(len2);
-        }
-        if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) {
-          layer_bad_[j] = 1;
-          continue;
-        }
-        SliceBuffers& o = out[layers[j]];
-        const std::uint32_t v = static_cast<std::uint32_t>(o.vertex_source.size());
-        o.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
-        layer_edges_[j].push_back(e);
-        sw_entry_[1][sw_base_[1][e] + (j - j0)] = {static_cast<std::uint32_t>(sw_terms_[1].size()), 1};
-        sw_terms_[1].push_back({v, pa == Side::Negative ? 1 : -1});
-      }
-    }
+    std::vector<std::uint32_t>& fill = crossing_;
+    fill.assign(bucket_offsets_.begin(), bucket_offsets_.end() - 1);
+    for (std::uint32_t e = 0; e < ne; ++e) bucket_ids_[fill[edge_start_[e]]++] = e;
   }
-  // Ranks 2..top: each element visits the layers its boundary spans.
-  for (int k = 2; k <= top; ++k) {
-    const SliceModel::Rank& R = m.ranks_[k];
-    const std::size_t count = R.offsets.size() - 1;
-    sw_lo_[k].resize(count);
-    sw_cnt_[k].resize(count);
-    sw_base_[k].resize(count);
-    sw_entry_[k].clear();
-    sw_terms_[k].clear();
-    if (k == top && m.single_solid_) {
-      // As in a slice: the one solid's cut is every section facet of the layer, in order.
-      for (std::size_t j = 0; j < L; ++j) {
-        SliceBuffers& o = out[layers[j]];
-        const std::uint32_t nf = static_cast<std::uint32_t>(o.boundary[k - 3].size());
-        if (layer_bad_[j] || nf == 0) continue;
-        row_ids_.resize(nf);
-        row_signs_.assign(nf, 1);
-        for (std::uint32_t i = 0; i < nf; ++i) row_ids_[i] = i;
-        o.boundary[k - 2].add_row(row_ids_, row_signs_);
-        o.source[k - 1].push_back(R.model_id.empty() ? 0 : R.model_id[0]);
-      }
+  active_.clear();
+  for (std::size_t j = 0; j < L; ++j) {
+    const double d = D[j];
+    for (std::uint32_t i = bucket_offsets_[j]; i < bucket_offsets_[j + 1]; ++i) active_.push_back(bucket_ids_[i]);
+    std::size_t keep = 0;
+    for (std::uint32_t e : active_)
+      if (edge_top_[e] > d) active_[keep++] = e;
+    active_.resize(keep);
+    const std::uint32_t k = layers[j];
+    if (layer_bad_[j]) {
+      single(k);
       continue;
     }
-    for (std::uint32_t x = 0; x < count; ++x) {
-      std::uint32_t j0 = 0xffffffffu, j1 = 0;
-      for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
-        const std::uint32_t c = R.ids[i];
-        if (sw_cnt_[k - 1][c] == 0) continue;
-        j0 = std::min(j0, sw_lo_[k - 1][c]);
-        j1 = std::max(j1, sw_lo_[k - 1][c] + sw_cnt_[k - 1][c]);
-      }
-      if (j1 <= j0) j0 = j1 = 0;
-      sw_lo_[k][x] = j0;
-      sw_cnt_[k][x] = j1 - j0;
-      sw_base_[k][x] = static_cast<std::uint32_t>(sw_entry_[k].size());
-      sw_entry_[k].resize(sw_entry_[k].size() + (j1 - j0));
-      for (std::uint32_t j = j0; j < j1; ++j) {
-        if (layer_bad_[j]) continue;
-        chain_.clear();
-        for (std::uint32_t i = R.offsets[x]; i < R.offsets[x + 1]; ++i) {
-          const std::uint32_t c = R.ids[i];
-          const std::uint32_t lo = sw_lo_[k - 1][c];
-          if (j < lo || j >= lo + sw_cnt_[k - 1][c]) continue;
-          const Span img = sw_entry_[k - 1][sw_base_[k - 1][c] + (j - lo)];
-          for (std::uint32_t q = img.begin; q < img.begin + img.count; ++q) {
-            const Term& t = sw_terms_[k - 1][q];
-            chain_.push_back({t.id, -R.signs[i] * t.coef});
-          }
-        }
-        if (chain_.empty()) continue;
-        const std::uint32_t first = static_cast<std::uint32_t>(sw_terms_[k].size());
-        if (!emit_element(m, k, x, out[layers[j]], layer_facets_[j], sw_terms_[k])) {
-          layer_bad_[j] = 1;
-          continue;
-        }
-        sw_entry_[k][sw_base_[k][x] + (j - j0)] = {first, static_cast<std::uint32_t>(sw_terms_[k].size()) - first};
-      }
+    SliceBuffers& o = out[k];
+    pl.set_offset(m, offsets[k]);
+    prepare(m);
+    touched_.clear();
+    for (std::size_t c = 0; c < nc; ++c)
+      if (pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
+        touched_.push_back(static_cast<std::uint32_t>(c));
+    start_buffers(m, pl, o);
+    // The crossing edges in increasing id order (marked, then visited cluster by cluster as a
+    // slice visits them).
+    std::vector<std::uint64_t>& edge_bits = mark_[1];
+    for (std::uint32_t e : active_) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      s_[a] = height_[a] - d;
+      s_[b] = height_[b] - d;
+      side_[a] = s_[a] < 0.0 ? -1 : 1;
+      side_[b] = s_[b] < 0.0 ? -1 : 1;
+      edge_bits[e >> 6] |= std::uint64_t{1} << (e & 63);
     }
-  }
-  (void)fr;
-  for (std::size_t j = 0; j < L; ++j) {
-    SliceBuffers& o = out[layers[j]];
-    if (!layer_bad_[j]) {
-      if (o.vertex_source.empty()) {
-        clear_to_empty(o, n - 1);
-        ++fast_count_;
-        continue;
+    bool ok = true;
+    for (auto c : touched_)
+      if (!visit_marked(edge_bits, m.begin_[0][c], m.begin_[0][c + 1],
+                        [&](std::uint32_t e) { return add_crossing(m, e, o); })) {
+        ok = false;
+        break;
       }
-      pl.set_offset(m, offsets[layers[j]]);
-      if (finish_fast(m, pl, o, layer_edges_[j], layer_facets_[j])) {
-        ++fast_count_;
-        continue;
-      }
+    if (ok && o.vertex_source.empty()) {
+      clear_to_empty(o, n - 1);
+      ++fast_count_;
+      continue;
     }
-    // Degenerate for this layer: exactly what slice() gives.
-    slice(m, Hyperplane{plane.normal, offsets[layers[j]]}, xf, o);
+    if (ok && cut_upper(m, pl, o)) {
+      ++fast_count_;
+      continue;
+    }
+    clear_marks(m);
+    single(k);  // a degenerate layer: exactly what slice() gives
   }
 }
 
@@ -1124,7 +1084,12 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
     // The sphere in the world: centre moved, radius stretched by the largest singular value.
     const double stretch =
         Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
-    objects_.push_back({&m, &obj.transform, obj.transform.apply(m.centre()), stretch * m.radius()});
+    const Eigen::VectorXd centre = obj.transform.apply(m.centre());
+    const double radius = stretch * m.radius();
+    objects_.push_back({&m, &obj.transform});
+    centres_.insert(centres_.end(), centre.data(), centre.data() + centre.size());
+    // Culled when |n.c - d| > radius + margin (tol::bounding_sphere_margin_rel of the size).
+    reach_.push_back(radius + tol::bounding_sphere_margin_rel * (radius + centre.norm()));
   }
 }
 
@@ -1137,13 +1102,21 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
-  std::vector<char> culled(objects_.size(), 0);
-  std::size_t touched = 0;
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
-    const Object& o = objects_[i];
-    const double margin = tol::bounding_sphere_margin_rel * (o.radius + o.centre.norm());
-    culled[i] = options.cull && std::abs(plane.signed_distance(o.centre)) > o.radius + margin;
-    touched += !culled[i];
+  // The culling pass: one flat array of world-space spheres.
+  std::vector<char>& culled = culled_;
+  culled.assign(objects_.size(), 0);
+  std::size_t touched = objects_.size();
+  if (options.cull) {
+    const double* nrm = plane.normal.data();
+    const double* c = centres_.data();
+    const int dim = dim_;
+    touched = 0;
+    for (std::size_t i = 0; i < objects_.size(); ++i, c += dim) {
+      double dist = -plane.offset;
+      for (int j = 0; j < dim; ++j) dist += nrm[j] * c[j];
+      culled[i] = std::abs(dist) > reach_[i];
+      touched += !culled[i];
+    }
   }
   touched_ = touched;
   auto run = [&](unsigned t, std::size_t b, std::size_t e) {

@@ -187,6 +187,11 @@ class Slicer {
   struct Placement;  // the plane in model space and the output maps (slicer.cpp)
   bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                   SliceBuffers& out);
+  void prepare(const SliceModel& m);
+  void clear_marks(const SliceModel& m);
+  void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  bool add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out);
+  bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
              SliceBuffers& out);
   void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
@@ -224,18 +229,13 @@ class Slicer {
   std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
   std::vector<std::uint32_t> row_ids_;
   std::vector<std::int8_t> row_signs_;
-  // sweep scratch: per rank k and element x, the candidate layers [lo, lo + cnt) (positions in
-  // offset order) and their images sw_entry_[k][base + j - lo] in sw_terms_[k].
-  struct Span {
-    std::uint32_t begin = 0, count = 0;
-  };
-  std::vector<double> height_, layer_d_, layer_tol_;
-  std::vector<std::uint32_t> layer_order_;
-  std::vector<std::vector<std::uint32_t>> sw_lo_, sw_cnt_, sw_base_;
-  std::vector<std::vector<Span>> sw_entry_;
-  std::vector<std::vector<Term>> sw_terms_;
+  // sweep scratch: vertex heights, per layer (in offset order) the model-space offset and ON
+  // band, the edges bucketed by the layer where they start crossing, the active edges.
+  std::vector<double> height_, layer_d_, layer_tol_, edge_top_;
+  std::vector<std::uint32_t> edge_start_, bucket_offsets_, bucket_ids_, active_, crossing_;
   std::vector<char> layer_bad_;
-  std::vector<std::vector<std::uint32_t>> layer_edges_, layer_facets_;
+  std::vector<std::uint32_t> sweep_order_;
+  std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
   std::size_t fast_count_ = 0, cached_count_ = 0;
 };
 
@@ -257,11 +257,12 @@ class SceneSlicer {
   struct Object {
     const SliceModel* model;
     const AffineTransform* transform;
-    Eigen::VectorXd centre;  // world-space bounding sphere
-    double radius;
   };
   std::vector<std::unique_ptr<SliceModel>> models_;
   std::vector<Object> objects_;
+  std::vector<double> centres_;  // world-space bounding-sphere centres, dim_ per object
+  std::vector<double> reach_;    // their radii plus the culling margin
+  std::vector<char> culled_;
   std::vector<Slicer> slicers_;
   std::size_t touched_ = 0;
   int dim_ = 0;
