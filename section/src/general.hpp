@@ -1,8 +1,32 @@
 #pragma once
-// Input checks shared by section.cpp and slicer.cpp.
+// What section.cpp and slicer.cpp share: input checks and chain arithmetic.
 #include "cw4d/section/section.hpp"
 
+#include <algorithm>
+#include <vector>
+
 namespace cw4d {
+
+/// Sorts a chain of terms {id, coef} by id, sums equal ids and drops zero coefficients (the
+/// result does not depend on the input order).
+template <class Term>
+void combine_chain(std::vector<Term>& chain) {
+  if (chain.size() <= 16) {  // the usual few terms: insertion sort
+    for (std::size_t i = 1; i < chain.size(); ++i)
+      for (std::size_t j = i; j > 0 && chain[j].id < chain[j - 1].id; --j) std::swap(chain[j], chain[j - 1]);
+  } else {
+    std::sort(chain.begin(), chain.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
+  }
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < chain.size();) {
+    std::size_t j = i;
+    int sum = 0;
+    while (j < chain.size() && chain[j].id == chain[i].id) sum += chain[j++].coef;
+    if (sum != 0) chain[out++] = {chain[i].id, sum};
+    i = j;
+  }
+  chain.resize(out);
+}
 
 /// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
 void check_section_input(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);

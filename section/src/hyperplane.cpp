@@ -7,14 +7,23 @@
 #include <vector>
 
 #include "cw4d/complex/error.hpp"
-#include "dot2.hpp"
 
 namespace cw4d {
 
 double plane_value(const Eigen::VectorXd& n, double d, const double* x) {
-  // Dot2 (Ogita, Rump, Oishi 2005): the products' sum and its error terms first, -d last
-  // (dot2.hpp), as accurate as twice the working precision.
-  return detail::dot2_finish(detail::dot2_partial(n.data(), x, static_cast<int>(n.size())), d);
+  // Dot2 (Ogita, Rump, Oishi 2005): p + c is the sum of the exact products and -d, c collecting
+  // the rounding errors of every product (fma) and every addition (TwoSum).
+  double p = -d, c = 0.0;
+  for (Eigen::Index i = 0; i < n.size(); ++i) {
+    const double h = n[i] * x[i];
+    const double r = std::fma(n[i], x[i], -h);  // exact: n_i x_i = h + r
+    const double sum = p + h;
+    const double z = sum - p;
+    const double e = (p - (sum - z)) + (h - z);  // exact: p + h = sum + e
+    p = sum;
+    c += e + r;
+  }
+  return p + c;
 }
 
 Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {

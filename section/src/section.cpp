@@ -40,20 +40,6 @@ struct ImageTable {
   }
 };
 
-// Sums equal ids and drops zero coefficients.
-void combine(std::vector<Term>& chain) {
-  std::sort(chain.begin(), chain.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < chain.size();) {
-    std::size_t j = i;
-    int sum = 0;
-    while (j < chain.size() && chain[j].id == chain[i].id) sum += chain[j++].coef;
-    if (sum != 0) chain[out++] = {chain[i].id, sum};
-    i = j;
-  }
-  chain.resize(out);
-}
-
 // The order of points along the line they lie on, deterministically: the points are projected
 // on the direction from the first point to the farthest one and sorted by that coordinate, ties
 // (coincident projections) broken by the points' order in the input, which is the order of
@@ -316,7 +302,7 @@ void Cutter::cut_rank(int k) {
     auto signs = table.signs(x);
     for (std::size_t i = 0; i < ids.size(); ++i)
       for (const Term& t : below.row(ids[i])) chain.push_back({t.id, -signs[i] * t.coef});
-    combine(chain);
+    combine_chain(chain);
     if (!chain.empty()) {
       if (k == 2)
         emit_edges(chain, x, image);
@@ -343,7 +329,7 @@ CutResult Cutter::run() {
   if (fr >= 1 && fr <= top) {
     for (std::uint32_t f = 0; f < m_.count(fr); ++f)
       for (const Term& t : images_[fr].row(f)) facets.push_back(t);
-    if (degenerate_) combine(facets);
+    if (degenerate_) combine_chain(facets);
   }
   if (n_ <= top)
     for (std::uint32_t s = 0; s < m_.count(n_); ++s)

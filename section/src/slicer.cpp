@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <string>
-#include <exception>
-#include <mutex>
 #include <thread>
 #include <unordered_map>
 
@@ -24,12 +24,24 @@ namespace {
 constexpr std::uint32_t none = 0xffffffffu;
 constexpr int kMaxDim = 4;
 
-// n.x summed in a fixed order (section/ is built with -ffp-contract=off, so nothing is fused):
-// the fast path's plane value is height - d. Its rounding error is below 5 units in the last
-// place of |n| |x| + |d|, far inside the ON band (tol::plane_side_ulps), so outside the band
-// its sign is the exact sign, as plane_value's is; a sweep computes the height once per vertex
-// and gets exactly the slice's value for every offset. (Within a few ulps of the band's edge
-// the two evaluations may classify a vertex differently; both answers are valid.)
+// Resizes v to `want` elements, moving dropped ones to `spare` and taking new ones from it, so
+// that their own storage is kept.
+template <class T>
+void resize_keeping(std::vector<T>& v, std::vector<T>& spare, std::size_t want) {
+  while (v.size() > want) {
+    spare.push_back(std::move(v.back()));
+    v.pop_back();
+  }
+  while (v.size() < want) {
+    if (spare.empty()) {
+      v.emplace_back();
+    } else {
+      v.push_back(std::move(spare.back()));
+      spare.pop_back();
+    }
+  }
+}
+
 // Calls f(x) for every set bit x of [b, e), in increasing order, clearing those bits; stops
 // (returning false) when f does.
 template <class F>
@@ -50,6 +62,12 @@ bool visit_marked(std::vector<std::uint64_t>& bits, std::uint32_t b, std::uint32
   return true;
 }
 
+// n.x summed in a fixed order (section/ is built with -ffp-contract=off, so nothing is fused):
+// the fast path's plane value is height - d. Its rounding error is below 5 units in the last
+// place of |n| |x| + |d|, far inside the ON band (tol::plane_side_ulps), so outside the band
+// its sign is the exact sign, as plane_value's is; a sweep computes the height once per vertex
+// and gets exactly the slice's value for every offset. (Within a few ulps of the band's edge
+// the two evaluations may classify a vertex differently; both answers are valid.)
 inline double height(const double* nm, const double* x, int n) {
   double h = nm[0] * x[0];
   for (int i = 1; i < n; ++i) h += nm[i] * x[i];
@@ -293,32 +311,9 @@ std::size_t SliceModel::bytes() const {
 
 void SliceBuffers::set_ranks(int top) {
   // Tables beyond `top` are parked, not freed, so that their storage serves later slices.
-  const std::size_t want = static_cast<std::size_t>(top);
-  while (boundary.size() > want) {
-    spare_tables_.push_back(std::move(boundary.back()));
-    boundary.pop_back();
-  }
-  while (boundary.size() < want) {
-    if (spare_tables_.empty()) {
-      boundary.emplace_back();
-    } else {
-      boundary.push_back(std::move(spare_tables_.back()));
-      spare_tables_.pop_back();
-    }
-  }
+  resize_keeping(boundary, spare_tables_, static_cast<std::size_t>(top));
   for (auto& b : boundary) b.clear();
-  while (source.size() > want + 1) {
-    spare_sources_.push_back(std::move(source.back()));
-    source.pop_back();
-  }
-  while (source.size() < want + 1) {
-    if (spare_sources_.empty()) {
-      source.emplace_back();
-    } else {
-      source.push_back(std::move(spare_sources_.back()));
-      spare_sources_.pop_back();
-    }
-  }
+  resize_keeping(source, spare_sources_, static_cast<std::size_t>(top) + 1);
   for (auto& v : source) v.clear();
 }
 
@@ -557,22 +552,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
 
 bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
                           std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
-  // The chain (gathered in chain_) summed per id, as the general path's combine().
-  if (chain_.size() <= 16) {  // (equal ids are summed, so their order does not matter)
-    for (std::size_t i = 1; i < chain_.size(); ++i)
-      for (std::size_t j = i; j > 0 && chain_[j].id < chain_[j - 1].id; --j) std::swap(chain_[j], chain_[j - 1]);
-  } else {
-    std::sort(chain_.begin(), chain_.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
-  }
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < chain_.size();) {
-    std::size_t j = i;
-    int sum = 0;
-    while (j < chain_.size() && chain_[j].id == chain_[i].id) sum += chain_[j++].coef;
-    if (sum != 0) chain_[w++] = {chain_[i].id, sum};
-    i = j;
-  }
-  chain_.resize(w);
+  combine_chain(chain_);  // as the general path does
   if (chain_.empty()) return true;
   const SliceModel::Rank& R = m.ranks_[k];
   const int fr = m.dim_ - 1;
@@ -662,11 +642,10 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   out.facet_normals.clear();
 }
 
-bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const int n = m.dim_;
   const double* P = m.positions_.data();
-  const SliceModel::Rank& E = m.ranks_[1];
-  const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+  const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
   double len2 = 0.0;
   for (int j = 0; j < n; ++j) {
@@ -674,7 +653,15 @@ bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& ou
     len2 += d * d;
   }
   const double len = std::sqrt(len2);
-  if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;  // welding: general
+  *t_out = t;
+  return !(t * len <= m.weld_ || (1.0 - t) * len <= m.weld_);  // near an end: welding, general
+}
+
+bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+  double t;
+  if (!crossing(m, e, &t)) return false;
+  const SliceModel::Rank& E = m.ranks_[1];
+  const std::uint32_t a = E.ids[2 * e];
   const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
   out.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
   section_edge_.push_back(e);
@@ -882,19 +869,8 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
       s_[v] = s;
     }
   // Same sides: the same connectivity. New crossing parameters, positions and normals.
-  for (std::size_t i = 0; i < out.cache_edge_.size(); ++i) {
-    const std::uint32_t e = out.cache_edge_[i];
-    const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
-    const double t = s_[a] / (s_[a] - s_[b]);
-    double len2 = 0.0;
-    for (int j = 0; j < n; ++j) {
-      const double d = P[b * n + j] - P[a * n + j];
-      len2 += d * d;
-    }
-    const double len = std::sqrt(len2);
-    if (t * len <= m.weld_ || (1.0 - t) * len <= m.weld_) return false;
-    out.vertex_source[i].t = t;
-  }
+  for (std::size_t i = 0; i < out.cache_edge_.size(); ++i)
+    if (!crossing(m, out.cache_edge_[i], &out.vertex_source[i].t)) return false;
   out.plane = *pl.plane;
   if (!write_geometry(m, pl, out, out.cache_edge_, out.cache_facet_)) return false;
   out.reused_topology = true;

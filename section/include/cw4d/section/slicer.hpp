@@ -7,6 +7,12 @@
 // buffers of the plain call Slicer::slice(model, plane, xf, out); section() itself is
 // to_section() of that call.
 //
+// How a slice stays cheap: the plane is moved into model space; the signed value of a vertex is
+// its height n.x (summed in a fixed order) minus d, computed only for the vertices of clusters
+// whose bounding sphere meets the plane; each crossing edge marks the faces above it (coface
+// lists), each cut face the cells above it, so only elements a crossing reaches are visited,
+// in increasing id order (bit marks), which is the order a full scan would give.
+//
 // The fast path covers models in R^3 and R^4 with facet normals whose faces are cut in at most
 // two points (convex faces; cells may be non-convex). Anything else -- vertices on the plane,
 // crossings within the weld distance of a vertex, non-convex faces cut in more than two points,
@@ -154,10 +160,12 @@ class Slicer {
              const SliceOptions& options = {});
 
   /// The sections with the planes {x : normal . x = offsets[i]} (normal need not be unit; it
-  /// is normalised as Hyperplane::from does) in one pass over the model: the signed values are
-  /// computed once per vertex, each edge visits only the layers between its endpoints' heights,
-  /// each face and cell only the layers it spans. out[i] is exactly what slice() gives for
-  /// plane i. Layers that need the general path are cut by slice().
+  /// is normalised as Hyperplane::from does) in one pass over the model: vertex heights are
+  /// computed once, each edge is bucketed by the first layer it crosses and stays in an active
+  /// set for the layers between its endpoints' heights, and each layer is built from its
+  /// active edges by the slice's own code (faces and cells reached through the marks). out[i]
+  /// is exactly what slice() gives for plane i; layers that need the general path are cut by
+  /// slice().
   /// threads > 1 splits the layers, in offset order, into that many groups of consecutive
   /// layers swept at once on their own threads (0: std::thread::hardware_concurrency()); the
   /// buffers are identical for every thread count.
@@ -190,6 +198,9 @@ class Slicer {
   void prepare(const SliceModel& m);
   void clear_marks(const SliceModel& m);
   void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  // The crossing parameter of edge e from s_; false when it lies within the weld distance of
+  // an end (the general path welds it).
+  bool crossing(const SliceModel& m, std::uint32_t e, double* t) const;
   bool add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out);
   bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
