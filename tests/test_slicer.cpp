@@ -335,3 +335,31 @@ TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]
   }
   CHECK(touched < 10 * scene.objects.size() / 2);  // the culling did skip objects
 }
+
+TEST_CASE("scenes with the topology cache stay exact across culled frames", "[slicer][scene][cache]") {
+  // Regression: a culled frame emptied an object's buffers but left its cache valid, so the
+  // next frame reused connectivity that was no longer there.
+  Scene scene;
+  SceneObject obj;
+  obj.model = "tesseract";
+  obj.complex = std::make_shared<const Complex>(load_model("tesseract"));
+  for (int i = 0; i < 3; ++i) {
+    Eigen::VectorXd t = Eigen::VectorXd::Zero(4);
+    t(3) = 3.0 * i;
+    obj.transform = AffineTransform::translation(t);
+    scene.objects.push_back(obj);
+  }
+  SceneSlicer cached(scene), fresh(scene);
+  SliceOptions reuse;
+  reuse.reuse_topology = true;
+  Eigen::VectorXd n(4);
+  n << 0.3, 0.2, 0.1, 1.0;
+  std::vector<SliceBuffers> a, b;
+  const double offsets[] = {0.1, 0.1001, 50.0, 0.1, 3.2, 0.1002, 6.1, 6.1001, -9.0, 6.1};
+  for (double d : offsets) {
+    const Hyperplane plane = Hyperplane::from(n, d);
+    cached.slice(plane, a, 1, reuse);
+    fresh.slice(plane, b, 1);
+    for (std::size_t k = 0; k < a.size(); ++k) require_identical(a[k], b[k]);
+  }
+}

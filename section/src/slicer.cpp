@@ -265,17 +265,18 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) :
 
 void SliceModel::find_single_solid() {
   single_solid_ = false;
-  // (only where the solid's cut is a rank >= 3 element, a set of facets; in R^3 it is a
-  // polygon, whose loops emit_loops orders)
-  if (dim_ < 4 || top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
+  solid_sign_.clear();
+  if (top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
   const std::size_t nf = ranks_[dim_ - 1].offsets.size() - 1;
   if (ranks_[top_].ids.size() != nf) return;
-  std::vector<char> seen(nf, 0);
-  for (auto id : ranks_[top_].ids) {
-    if (seen[id]) return;
-    seen[id] = 1;
+  std::vector<std::int8_t> sign(nf, 0);
+  for (std::size_t i = 0; i < nf; ++i) {
+    const auto id = ranks_[top_].ids[i];
+    if (sign[id] != 0) return;
+    sign[id] = ranks_[top_].signs[i];
   }
   single_solid_ = true;
+  if (dim_ == 3) solid_sign_ = std::move(sign);
 }
 
 void SliceModel::build_cofaces() {
@@ -437,6 +438,7 @@ struct Slicer::Placement {
 namespace {
 
 void clear_to_empty(SliceBuffers& out, int dim) {
+  out.forget_topology();
   out.dim = dim;
   out.coords.clear();
   out.vertex_source.clear();
@@ -742,8 +744,22 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
       return true;
     };
     auto visit = [&](std::uint32_t b, std::uint32_t e) { return visit_marked(bits, b, e, process); };
+    if (k == top && m.single_solid_ && k == 3) {
+      // The one solid of a polyhedron: its cut's boundary is every section edge, with the
+      // sign of the edge's facet in the solid (no gathering over the solid's long row).
+      if (bits[0] & 1u) {
+        bits[0] = 0;
+        chain_.clear();
+        for (std::uint32_t i = 0; i < facet_internal_.size(); ++i)
+          chain_.push_back({i, -m.solid_sign_[facet_internal_[i]]});
+        image_.clear();
+        if (!emit_loops(chain_, R.model_id.empty() ? 0 : R.model_id[0], out, image_)) return false;
+      }
+      continue;
+    }
     if (k == top && m.single_solid_) {
-      // The one solid bounded by every facet once: its cut is every section facet, in order.
+      // The one solid bounded by every facet once: its cut is every section facet, in order
+      // (a rank >= 3 element lists its facets; finish_fast gives them sign +1).
       if (bits[0] & 1u) {
         bits[0] = 0;
         Incidence& table = out.boundary[k - 2];

@@ -83,6 +83,7 @@ class SliceModel {
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
+  std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
   std::vector<double> facet_normals_;    // dim_ per internal facet
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
@@ -122,6 +123,8 @@ struct SliceBuffers {
   /// Resizes boundary to `top` tables and source to top + 1 lists, all empty; storage of
   /// dropped tables is kept for later slices.
   void set_ranks(int top);
+  /// Drops the topology cache (the next slice into these buffers builds its own).
+  void forget_topology() { cache_valid_ = false; }
 
  private:
   friend class Slicer;
