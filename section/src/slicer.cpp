@@ -681,17 +681,25 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
   for (std::size_t c = 0; c < nc; ++c)
     if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
       touched_.push_back(static_cast<std::uint32_t>(c));
-  // Signed values of the touched clusters' vertices.
+  // Signed values of the touched clusters' vertices (of all vertices, once each, when every
+  // cluster is touched: the clusters' vertex lists share their border vertices).
   const double* P = m.positions_.data();
-  for (auto c : touched_)
-    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i) {
-      const std::uint32_t v = m.cluster_vertices_[i];
-      const double s = height(pl.nm, P + v * n, n) - pl.dm;
-      const Side side = classify_side(s, pl.tol);
-      if (side == Side::On) return false;  // symbolic perturbation: the general path
-      s_[v] = s;
-      side_[v] = static_cast<std::int8_t>(side);
-    }
+  auto value = [&](std::uint32_t v) {
+    const double s = height(pl.nm, P + v * n, n) - pl.dm;
+    const Side side = classify_side(s, pl.tol);
+    s_[v] = s;
+    side_[v] = static_cast<std::int8_t>(side);
+    return side != Side::On;  // on the plane: symbolic perturbation, the general path
+  };
+  if (touched_.size() == nc && nc > 1) {
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (!value(v)) return false;
+  } else {
+    for (auto c : touched_)
+      for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
+        if (!value(m.cluster_vertices_[i])) return false;
+  }
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
   const SliceModel::Rank& E = m.ranks_[1];
