@@ -50,7 +50,9 @@ void require_identical(const SliceBuffers& a, const SliceBuffers& b) {
 void require_same_section(const Section& fast, const Section& general, double scale) {
   const Complex& a = fast.complex;
   const Complex& b = general.complex;
-  const int top = std::max(a.top_rank(), b.top_rank());
+  REQUIRE(a.top_rank() == b.top_rank());
+  REQUIRE(fast.source.size() == general.source.size());
+  const int top = a.top_rank();
   for (int r = 0; r <= top; ++r) REQUIRE(a.count(r) == b.count(r));
   for (int r = 1; r <= top; ++r) {
     if (a.count(r) == 0) continue;
@@ -81,6 +83,33 @@ AffineTransform random_placement(std::mt19937& rng, int n, bool mirror) {
   Eigen::VectorXd t(n);
   for (int i = 0; i < n; ++i) t(i) = u(rng);
   return AffineTransform(m, t);
+}
+
+// Two copies of a model, the second moved by `shift`: a model with two components.
+Complex disjoint_union(const Complex& a, const Eigen::VectorXd& shift) {
+  const int n = a.ambient_dim();
+  Complex u(n);
+  const Eigen::Index nv = a.positions().cols();
+  Eigen::MatrixXd pos(n, 2 * nv);
+  pos.leftCols(nv) = a.positions();
+  pos.rightCols(nv) = a.positions().colwise() + shift;
+  u.set_positions(pos);
+  for (int r = 1; r <= a.top_rank(); ++r) {
+    const Incidence& t = a.boundary(r);
+    Incidence& dst = u.boundary_mut(r);
+    const auto base = static_cast<std::uint32_t>(a.count(r - 1));
+    for (std::uint32_t copy = 0; copy < 2; ++copy)
+      for (std::uint32_t x = 0; x < t.size(); ++x) {
+        std::vector<std::uint32_t> ids(t.ids(x).begin(), t.ids(x).end());
+        for (auto& id : ids) id += copy * base;
+        dst.add_row(ids, t.signs(x));
+      }
+  }
+  const Eigen::MatrixXd& fn = a.facet_normals();
+  Eigen::MatrixXd normals(n, 2 * fn.cols());
+  normals << fn, fn;
+  u.set_facet_normals(normals);
+  return u;
 }
 
 Hyperplane random_plane(std::mt19937& rng, int n, double reach) {
@@ -361,5 +390,44 @@ TEST_CASE("scenes with the topology cache stay exact across culled frames", "[sl
     cached.slice(plane, a, 1, reuse);
     fresh.slice(plane, b, 1);
     for (std::size_t k = 0; k < a.size(); ++k) require_identical(a[k], b[k]);
+  }
+}
+
+TEST_CASE("a model in two pieces: planes between, through and beside them", "[slicer]") {
+  // Regression: between the components no edge crosses although vertices lie on both sides;
+  // both paths must give the empty section.
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(4);
+  shift(3) = 5.0;
+  const Complex two = disjoint_union(load_model("tesseract"), shift);
+  const SliceModel compiled(two);
+  REQUIRE(compiled.fast());
+  Slicer slicer;
+  SliceBuffers out;
+  Eigen::VectorXd n(4);
+  n << 0.1, -0.2, 0.05, 1.0;
+  for (double d : {2.5, 0.3, 5.2, -3.0}) {
+    const Hyperplane plane = Hyperplane::from(n, d);
+    slicer.slice(compiled, plane, out);
+    REQUIRE_FALSE(out.general);
+    const Section general = section_general(two, plane, AffineTransform::identity(4));
+    require_same_section(to_section(out), general, 20.0);
+    CHECK(out.empty() == (d == 2.5 || d == -3.0));
+  }
+}
+
+TEST_CASE("one Slicer serves models of different sizes in turn", "[slicer][cache]") {
+  std::mt19937 rng(8109);
+  const Complex big = load_model("120-cell"), small = load_model("tesseract");
+  const SliceModel a(big, {16, 8}), b(small);
+  Slicer shared;
+  SliceBuffers out, ref;
+  SliceOptions reuse;
+  reuse.reuse_topology = true;
+  for (int i = 0; i < 60; ++i) {
+    const SliceModel& m = (i / 3) % 2 == 0 ? a : b;  // three frames each, alternating
+    const Hyperplane plane = Hyperplane::from(test::random_unit(rng, 4), 0.2 + 1e-6 * i);
+    shared.slice(m, plane, out, reuse);
+    Slicer().slice(m, plane, ref);
+    require_identical(out, ref);
   }
 }

@@ -94,8 +94,8 @@ void run_bench(const BenchSettings& s) {
   auto plain = [&] { benchmark_sink(section(model, planes[next++ % planes.size()]).complex.count(0)); };
   const auto t1 = per_call({hot, tet, plain}, s.seconds);
   const double n = static_cast<double>(planes.size());
-  std::printf("%s on %u thread(s), %d layers; times are medians of alternating rounds\n",
-              s.model.c_str(), threads, s.layers);
+  std::printf("%s, %d layers, one thread unless stated; times are medians of alternating rounds\n",
+              s.model.c_str(), s.layers);
   std::printf("  slice, hot path (Slicer)      %9.2f us   %7.1f triangles\n", t1[0] * 1e6, cw_tris / n);
   std::printf("  slice, tetrahedral path       %9.2f us   %7.1f triangles   tet/CW time %.2fx, triangles %.2fx\n",
               t1[1] * 1e6, tet_tris / n, t1[1] / t1[0], tet_tris / cw_tris);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "cli.hpp"
 #include "cw4d/export/gltf.hpp"
@@ -111,20 +112,31 @@ void run_sweep(SweepSettings& s) {
   auto offset = [&](int i) {
     return s.layers == 1 ? s.from : s.from + (s.to - s.from) * i / (s.layers - 1);
   };
-  // A single model is cut in one pass over all layers, on every core (slicer.hpp); the buffers
-  // are exactly those of one section() per layer. Scenes are cut layer by layer.
+  // A single model is cut by one-pass sweeps of up to kChunk layers at a time, on every core
+  // (slicer.hpp); each layer is exactly one section() with that plane (the sweep gets the raw
+  // normal, which it normalises as Hyperplane::from does). Scenes are cut layer by layer.
+  constexpr int kChunk = 256;
+  std::optional<SliceModel> compiled;
+  Slicer slicer;
   std::vector<SliceBuffers> swept;
-  if (!input.is_scene) {
-    const SceneObject& obj = input.scene.objects.front();
-    const SliceModel compiled(*obj.complex, SliceModelOptions::unclustered());
-    std::vector<double> offsets(s.layers);
-    for (int i = 0; i < s.layers; ++i) offsets[i] = offset(i);
-    Slicer().sweep(compiled, p.plane(0.0).normal, offsets, obj.transform, swept, 0);
-  }
+  std::vector<double> offsets;
+  const Eigen::VectorXd raw_normal =
+      Eigen::Map<const Eigen::VectorXd>(p.normal.data(), static_cast<Eigen::Index>(p.normal.size()));
+  if (!input.is_scene)
+    compiled.emplace(*input.scene.objects.front().complex, SliceModelOptions::unclustered());
+  auto layer_section = [&](int i) {
+    if (input.is_scene) return cut(input, p.plane(offset(i))).section;
+    if (i % kChunk == 0) {
+      offsets.clear();
+      for (int k = i; k < std::min(s.layers, i + kChunk); ++k) offsets.push_back(offset(k));
+      slicer.sweep(*compiled, raw_normal, offsets, input.scene.objects.front().transform, swept, 0);
+    }
+    return to_section(swept[i % kChunk]);
+  };
   try {
     for (int i = 0; i < s.layers; ++i) {
       const double d = offset(i);
-      const Section sec = input.is_scene ? cut(input, p.plane(d)).section : to_section(swept[i]);
+      const Section sec = layer_section(i);
       if (sec.empty()) {
         empty.push_back(i);
       } else {

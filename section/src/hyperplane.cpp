@@ -75,7 +75,7 @@ void hyperplane_basis(const double* nrm, int n, double* basis) {
   int col = 0;
   for (int i = 0; i < n; ++i) {
     if (i == j) continue;
-    const double f = 2.0 * (nrm[i] + (i == j ? sgn : 0.0)) / uu;
+    const double f = 2.0 * nrm[i] / uu;  // (u_i = nrm_i for i != j)
     for (int r = 0; r < n; ++r) {
       const double ur = nrm[r] + (r == j ? sgn : 0.0);
       basis[col * n + r] = (r == i ? 1.0 : 0.0) - f * ur;

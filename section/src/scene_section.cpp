@@ -4,10 +4,8 @@
 #include <cassert>
 #include <cmath>
 #include <string>
-#include <limits>
 
 #include "cw4d/complex/error.hpp"
-#include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/slicer.hpp"
 
 namespace cw4d {

@@ -446,6 +446,13 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
     cut = Cutter(model, s, side, +1, any_on, weld).run();
     if (cut.model_positions.cols() == 0 && any_on)
       cut = Cutter(model, s, side, -1, true, weld).run();
+    if (cut.model_positions.cols() == 0) {
+      // Nothing cut (a plane between the components of a model, say): the same empty section
+      // as a plane that misses the model.
+      cut = CutResult{};
+      cut.section.complex = Complex(n - 1);
+      cut.model_positions.resize(n, 0);
+    }
   }
   Section sec = std::move(cut.section);
   const Eigen::MatrixXd& model_pos = cut.model_positions;

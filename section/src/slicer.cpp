@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -23,6 +24,15 @@ namespace {
 
 constexpr std::uint32_t none = 0xffffffffu;
 constexpr int kMaxDim = 4;
+
+// Joins every started thread when it goes out of scope, also when starting another one threw.
+struct JoinAll {
+  std::vector<std::thread>& pool;
+  ~JoinAll() {
+    for (auto& t : pool)
+      if (t.joinable()) t.join();
+  }
+};
 
 // Resizes v to `want` elements, moving dropped ones to `spare` and taking new ones from it, so
 // that their own storage is kept.
@@ -105,7 +115,12 @@ bool every_element_bounds(const Complex& c, int below_rank) {
 
 // --- SliceModel -------------------------------------------------------------------------------
 
-SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) : model_(&model) {
+namespace {
+std::atomic<std::uint64_t> next_serial{1};
+}  // namespace
+
+SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
+    : model_(&model), serial_(next_serial.fetch_add(1, std::memory_order_relaxed)) {
   const int n = model.ambient_dim();
   dim_ = n;
   top_ = model.top_rank();
@@ -126,8 +141,13 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options) :
   max_norm_ = std::sqrt(max_norm2);
   weld_ = tol::weld_rel * (hi - lo).norm();
   const int fr = n - 1;
+  bool two_ends = top_ >= 1;
+  if (two_ends) {
+    const Incidence& edges = model.boundary(1);
+    for (std::size_t e = 0; e < edges.size() && two_ends; ++e) two_ends = edges.row_size(e) == 2;
+  }
   fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
-          every_element_bounds(model, fr - 1);
+          two_ends && every_element_bounds(model, fr - 1);
   if (!fast_) {
     cluster_vertex_ = {0};
     return;
@@ -299,7 +319,7 @@ void SliceModel::build_cofaces() {
 }
 
 std::size_t SliceModel::bytes() const {
-  std::size_t b = positions_.size() * sizeof(double) + facet_normals_.size() * sizeof(double) +
+  std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) + facet_normals_.size() * sizeof(double) +
                   vertex_id_.size() * 4 + cluster_vertex_.size() * 4 +
                   cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
@@ -341,8 +361,7 @@ struct Slicer::Placement {
   double N[kMaxDim * kMaxDim] = {};  // projected normals: basis^T A^{-T} (row-major)
   bool reflect = false;
   const Hyperplane* plane = nullptr;
-  const double* basis = nullptr;  // n x (n-1) column-major
-  double basis_store[kMaxDim * kMaxDim] = {};
+  double basis[kMaxDim * kMaxDim] = {};  // n x (n-1) column-major
   double A[kMaxDim * kMaxDim] = {};  // row-major
   double t[kMaxDim] = {};
 
@@ -363,8 +382,7 @@ struct Slicer::Placement {
     double nn = 0.0;
     for (int j = 0; j < n; ++j) nn += nm[j] * nm[j];
     nm_norm = std::sqrt(nn);
-    hyperplane_basis(p.normal.data(), n, basis_store);
-    basis = basis_store;
+    hyperplane_basis(p.normal.data(), n, basis);
     const int o = n - 1;
     for (int r = 0; r < o; ++r)
       for (int j = 0; j < n; ++j) {
@@ -791,7 +809,7 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
 }
 
 void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
-  out.cache_model_ = &m;
+  out.cache_model_ = m.serial_;
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
   for (auto c : touched_)
@@ -872,7 +890,7 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
 
 bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                    SliceBuffers& out) {
-  if (!out.cache_valid_ || out.cache_model_ != &m || out.cache_reflect_ != pl.reflect) return false;
+  if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect) return false;
   const int n = m.dim_;
   const std::size_t nv = m.positions_.size() / n;
   const std::size_t nc = m.cluster_count();
@@ -906,12 +924,15 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
 
 void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span<const double> offsets,
                    const AffineTransform& xf, std::vector<SliceBuffers>& out, unsigned threads) {
-  out.resize(offsets.size());
-  if (offsets.empty()) return;
+  if (offsets.empty()) {
+    out.clear();
+    return;
+  }
   const Hyperplane proto = Hyperplane::from(normal, offsets[0]);
   for (double d : offsets)
     if (!std::isfinite(d)) throw InputError("hyperplane offset is not finite");
   check_section_input(m.complex(), proto, xf);
+  out.resize(offsets.size());
   std::vector<std::uint32_t>& order = sweep_order_;
   order.resize(offsets.size());
   std::iota(order.begin(), order.end(), 0u);
@@ -940,12 +961,13 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
       if (!failure) failure = std::current_exception();
     }
   };
+  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
   for (unsigned t = 1; t < threads; ++t) {
     const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
     if (b < e) pool.emplace_back([&, t, b, e] { run(helpers_[t - 1], b, e); });
   }
   run(*this, 0, std::min(per, order.size()));
-  for (auto& th : pool) th.join();
+  for (auto& th : pool) th.join();  // (JoinAll covers a throw while starting them)
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
   if (failure) std::rethrow_exception(failure);
 }
@@ -996,7 +1018,8 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   // Without ON vertices, edge (a, b) crosses layer j exactly when lo < d_j < hi for its end
   // heights lo < hi (the sign of the rounded h - d is the sign of h - d). Edges enter the
   // active set at the first layer above lo (bucketed by that layer) and leave it at the first
-  // layer at or above hi, so each layer sees its crossing edges and the few that just expired.
+  // layer at or above hi (dropped before the layer is built), so each layer sees exactly its
+  // crossing edges.
   const SliceModel::Rank& E = m.ranks_[1];
   const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
   bucket_offsets_.assign(L + 2, 0);
@@ -1012,7 +1035,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   for (std::size_t j = 0; j <= L; ++j) bucket_offsets_[j + 1] += bucket_offsets_[j];
   bucket_ids_.resize(ne);
   {
-    std::vector<std::uint32_t>& fill = crossing_;
+    std::vector<std::uint32_t>& fill = bucket_fill_;
     fill.assign(bucket_offsets_.begin(), bucket_offsets_.end() - 1);
     for (std::uint32_t e = 0; e < ne; ++e) bucket_ids_[fill[edge_start_[e]]++] = e;
   }
@@ -1086,7 +1109,7 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
         Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
     const Eigen::VectorXd centre = obj.transform.apply(m.centre());
     const double radius = stretch * m.radius();
-    objects_.push_back({&m, &obj.transform});
+    objects_.push_back({&m, obj.transform});
     centres_.insert(centres_.end(), centre.data(), centre.data() + centre.size());
     // Culled when |n.c - d| > radius + margin (tol::bounding_sphere_margin_rel of the size).
     reach_.push_back(radius + tol::bounding_sphere_margin_rel * (radius + centre.norm()));
@@ -1128,7 +1151,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
         out[i].reused_topology = false;
         continue;
       }
-      slicers_[t].slice(*objects_[i].model, plane, *objects_[i].transform, out[i], options);
+      slicers_[t].slice(*objects_[i].model, plane, objects_[i].transform, out[i], options);
     }
   };
   if (threads == 1) {
@@ -1140,6 +1163,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
   std::vector<std::thread> pool;
   std::exception_ptr failure;
   std::mutex failure_lock;
+  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
   for (unsigned t = 1; t < threads; ++t)
     pool.emplace_back([&, t] {
       try {

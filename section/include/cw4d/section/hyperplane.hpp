@@ -34,10 +34,11 @@ double plane_value(const Eigen::VectorXd& n, double d, const double* x);
 ///
 /// How the section's topological decisions are made (the same answer for the same input on
 /// every machine):
-///  - side of the plane: s = plane_value(...) (deterministic, near-exact), then this function
-///    with the tolerance of tolerances.hpp (plane_side_ulps), itself computed deterministically.
-///    Outside the ON band the sign of s is the sign of the exact n.x - d for the given doubles
-///    (the band exceeds the evaluation error). Inside it the vertex is ON, and ON vertices are
+///  - side of the plane: s = plane_value(...) (deterministic, near-exact; the slicer's fast path
+///    uses the height n.x summed in a fixed order, minus d, whose error is below 5 ulps of the
+///    scale), then this function with the tolerance of tolerances.hpp (plane_side_ulps), itself
+///    computed deterministically. Outside the ON band the sign of s is the sign of the exact
+///    n.x - d for the given doubles (the band exceeds either evaluation's error). Inside it the vertex is ON, and ON vertices are
 ///    resolved by symbolic perturbation: they count as Positive, i.e. the plane is moved by
 ///    -epsilon along n (the limit of generic planes), and only when that leaves no section at
 ///    all, as Negative (+epsilon), so a plane containing a facet returns that facet.

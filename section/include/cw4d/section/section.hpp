@@ -58,9 +58,12 @@ Section section(const Complex& model, const Hyperplane& plane,
 Section section(const Complex& model, const Hyperplane& plane);
 
 /// The general layered cut alone, without the slicer's fast path (slicer.hpp) that section()
-/// takes when it can: every dimension and every degenerate plane. The fast path gives the same
-/// complex (same elements in the same order) with coordinates equal up to rounding; the tests
-/// use this as the second algorithm. \throw InputError as section().
+/// takes when it can: every dimension and every degenerate plane. Where the fast path answers,
+/// it gives the same complex (same elements in the same order) with coordinates equal up to
+/// rounding; the tests use this as the second algorithm. (The fast path decides sides with a
+/// fixed-order dot product, this one with plane_value: for a vertex within a few ulps of the ON
+/// band's edge, or a crossing at the weld distance, the two may decide differently; both
+/// results are valid sections.) \throw InputError as section().
 Section section_general(const Complex& model, const Hyperplane& plane,
                         const AffineTransform& model_to_world);
 

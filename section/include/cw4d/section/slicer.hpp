@@ -13,11 +13,14 @@
 // lists), each cut face the cells above it, so only elements a crossing reaches are visited,
 // in increasing id order (bit marks), which is the order a full scan would give.
 //
-// The fast path covers models in R^3 and R^4 with facet normals whose faces are cut in at most
-// two points (convex faces; cells may be non-convex). Anything else -- vertices on the plane,
-// crossings within the weld distance of a vertex, non-convex faces cut in more than two points,
-// models of other dimensions -- goes through the general layered cut of section.cpp, whose
-// result is copied into the buffers (SliceBuffers::general is then true).
+// The fast path covers valid complexes in R^3 and R^4 with facet normals whose faces are cut
+// in at most two points (convex faces; cells may be non-convex). Anything else goes through the
+// general layered cut (section_general), whose result is copied into the buffers
+// (SliceBuffers::general is then true): vertices on the plane, crossings within the weld
+// distance of a vertex, faces cut in more than two points, cell cuts whose loops pinch (a
+// vertex starting two steps) or do not close, multiplicities other than 1, sections of facets
+// nearly parallel to the plane (projected normal below 1e-9), models without facet normals or
+// with elements bounding nothing above them, models of other dimensions.
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -47,7 +50,8 @@ struct SliceModelOptions {
 /// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
 /// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
 /// weld distance. Immutable after construction and safe to share between threads. Keeps a
-/// reference to `model`, which must outlive it (the general path cuts the model itself).
+/// reference to `model`, which must outlive it (the general path cuts the model itself); a
+/// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
   explicit SliceModel(const Complex& model, const SliceModelOptions& options = {});
@@ -71,6 +75,7 @@ class SliceModel {
     std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
   };
   const Complex* model_;
+  std::uint64_t serial_;  // unique per SliceModel constructed, for the topology cache
   int dim_ = 0;
   int top_ = 0;
   bool fast_ = false;
@@ -114,6 +119,7 @@ struct SliceBuffers {
   bool reused_topology = false;       ///< true when the topology cache answered the last slice
 
   std::size_t count(int rank) const {
+    if (rank < 0) return 0;
     return rank == 0 ? vertex_source.size()
                      : rank <= static_cast<int>(boundary.size()) ? boundary[rank - 1].size() : 0;
   }
@@ -131,7 +137,7 @@ struct SliceBuffers {
   std::vector<Incidence> spare_tables_;
   std::vector<std::vector<std::uint32_t>> spare_sources_;
   // Topology cache: what the last fast slice decided.
-  const SliceModel* cache_model_ = nullptr;
+  std::uint64_t cache_model_ = 0;             // SliceModel::serial_ (never reused, unlike addresses)
   std::vector<std::uint32_t> cache_touched_;  // clusters touched
   std::vector<std::int8_t> cache_side_;       // sides of their vertices, in that order
   std::vector<std::uint32_t> cache_edge_;     // internal edge of each section vertex
@@ -246,15 +252,17 @@ class Slicer {
   // sweep scratch: vertex heights, per layer (in offset order) the model-space offset and ON
   // band, the edges bucketed by the layer where they start crossing, the active edges.
   std::vector<double> height_, layer_d_, layer_tol_, edge_top_;
-  std::vector<std::uint32_t> edge_start_, bucket_offsets_, bucket_ids_, active_, crossing_;
+  std::vector<std::uint32_t> edge_start_, bucket_offsets_, bucket_ids_, active_, bucket_fill_;
   std::vector<char> layer_bad_;
   std::vector<std::uint32_t> sweep_order_;
   std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
   std::size_t fast_count_ = 0, cached_count_ = 0;
 };
 
-/// A scene compiled for repeated slicing: one SliceModel per distinct model, the world-space
-/// bounding sphere of every object. Keeps references to the scene's models.
+/// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every
+/// object's placement and its world-space bounding sphere. A snapshot: objects moved later are
+/// not seen (build a new SceneSlicer, or slice their models with a Slicer). Keeps references to
+/// the scene's models, which must outlive it.
 class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
@@ -270,7 +278,7 @@ class SceneSlicer {
  private:
   struct Object {
     const SliceModel* model;
-    const AffineTransform* transform;
+    AffineTransform transform;  // copied: the scene may move its objects afterwards
   };
   std::vector<std::unique_ptr<SliceModel>> models_;
   std::vector<Object> objects_;
