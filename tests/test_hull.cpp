@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kMiratope = fs::path(CW4D_SHARED_DATA_DIR) / "miratope-4d" / "convex uniform";
+const fs::path kMiratope = fs::path(CW4D_TEST_DATA_DIR) / "miratope" / "convex uniform";
 
 Eigen::MatrixXd columns(std::initializer_list<std::vector<double>> pts) {
   Eigen::MatrixXd m(static_cast<Eigen::Index>(pts.begin()->size()),

@@ -122,7 +122,7 @@ std::vector<fs::path> off_files(const std::string& dir) {
   return out;
 }
 
-const std::string miratope = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/";
+const std::string miratope = std::string(CW4D_TEST_DATA_DIR) + "/miratope/";
 
 // Facet normals point away from the vertex centroid (convex polytopes only).
 void check_outward_normals(const Complex& c) {

@@ -174,7 +174,7 @@ TEST_CASE("triangulation: ear clipping keeps orientation and area of non-convex 
 TEST_CASE("star polychora: every regular and non-convex uniform Miratope file sections as a "
           "flagged polygon soup with the oracle's volume",
           "[robust][star]") {
-  const std::string root = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/";
+  const std::string root = std::string(CW4D_TEST_DATA_DIR) + "/miratope/";
   std::vector<std::string> files;
   for (const char* dir : {"regular", "nonconvex uniform"})
     for (const auto& e : std::filesystem::directory_iterator(root + dir))

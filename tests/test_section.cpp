@@ -46,7 +46,7 @@ const std::vector<Shape>& shapes_4d() {
           "grand antiprism", "pyramid:cube:3", "dual:24-cell", "duocylinder:1,9",
           "prism:antiprism:5", "cone:sphere:1,6"})
       s.push_back({spec, load_model(spec)});
-    const std::string dir = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/regular/";
+    const std::string dir = std::string(CW4D_TEST_DATA_DIR) + "/miratope/regular/";
     for (std::string file : {"Icositetrachoron", "Hexacosichoron", "Hecatonicosachoron"})
       s.push_back({file, read_off_file(dir + file + ".off")});
     return s;

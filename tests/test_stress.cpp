@@ -71,7 +71,7 @@ const std::vector<Model>& models() {
       m.push_back({name, std::move(c), scale, elements, convex});
     };
     for (const auto& spec : specs) add(spec, load_model(spec));
-    const std::string dir = std::string(CW4D_SHARED_DATA_DIR) + "/miratope-4d/";
+    const std::string dir = std::string(CW4D_TEST_DATA_DIR) + "/miratope/";
     for (const char* name : {"Pentachoron", "Tesseract", "Hexadecachoron", "Icositetrachoron",
                              "Hecatonicosachoron", "Hexacosichoron"})
       add(std::string("regular/") + name, read_off_file(dir + "regular/" + name + ".off"));

@@ -248,7 +248,7 @@ TEST_CASE("every ringing of A4, B4, F4, H4 has the published f-vector", "[wythof
 
 TEST_CASE("the Miratope convex uniform and regular files agree in counts and radius/edge",
           "[wythoff][data]") {
-  const std::filesystem::path root = std::filesystem::path(CW4D_SHARED_DATA_DIR) / "miratope-4d";
+  const std::filesystem::path root = std::filesystem::path(CW4D_TEST_DATA_DIR) / "miratope";
   std::set<std::string> unmapped;
   int compared = 0;
   for (const char* folder : {"convex uniform", "regular"}) {
