@@ -851,3 +851,22 @@ TEST_CASE("files from the wild: a byte-order mark, zero-volume polyhedra decided
     }
   }
 }
+
+TEST_CASE("an interrupted sweep leaves nothing behind", "[hostile][cli][signals]") {
+  for (const std::string sig : {"TERM", "INT"}) {
+    DYNAMIC_SECTION("SIG" << sig) {
+      TempDir dir;
+      // 5000 layers of the 120-cell take far more than a second: the signal lands mid-sweep.
+      const std::string cmd = "cd " + quote(dir.path().string()) + " && timeout -s " + sig +
+                              " 1 " + quote(CW4D_EXE) +
+                              " sweep 120-cell --normal 1,2,3,4 --from -3 --to 3 --layers 5000"
+                              " -q -o out/layers >/dev/null 2>&1";
+      const int status = std::system(cmd.c_str());
+      REQUIRE(WIFEXITED(status));
+      REQUIRE(WEXITSTATUS(status) == 124);  // interrupted, not finished
+      // At most the (empty) parent folder the sweep created: no layer, no staging folder.
+      const auto left = listing(dir);
+      CHECK((left.empty() || left == std::vector<std::string>{"out"}));
+    }
+  }
+}

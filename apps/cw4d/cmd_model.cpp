@@ -1,4 +1,5 @@
 // cw4d list, info and convert: the commands about models themselves.
+#include <algorithm>
 #include <iostream>
 #include <optional>
 
@@ -34,10 +35,9 @@ struct InfoSettings {
 void run_info(const InfoSettings& s) {
   std::vector<double> normal;
   if (!s.normal.empty()) {
-    normal = parse_vector(s.normal, "--normal");
-    (void)Hyperplane::from(Eigen::Map<const Eigen::VectorXd>(
-                               normal.data(), static_cast<Eigen::Index>(normal.size())),
-                           0.0);  // a zero normal is refused before the model is built
+    normal = parse_vector(s.normal, "--normal");  // refused before the model is built
+    if (std::all_of(normal.begin(), normal.end(), [](double x) { return x == 0.0; }))
+      throw InputError("--normal must not be the zero vector");
   }
   const Complex model = load(s.model);
   const ValidationReport report = validate(model);
