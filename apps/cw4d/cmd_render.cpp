@@ -1,5 +1,6 @@
 // cw4d render: pictures (PNG) of sections, voxel clouds, 4D wireframes, stereographic views,
 // stereo pairs and sweeps, drawn by the software rasterizer of render/.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -96,8 +97,8 @@ void check_pixel_budget(const RenderSettings& s) {
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError("--size " + s.size + (s.mode == "sheet" ? " with " + std::to_string(layers) + " layers" : std::string()) +
-                     " would hold " + std::to_string(static_cast<long long>(held)) +
-                     " pixels in memory (" + std::to_string(static_cast<long long>(held * 16 / 1e6)) +
+                     " would hold " + std::to_string(static_cast<long long>(std::min(held, 9e18))) +
+                     " pixels in memory (" + std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
                      " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
                      ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
 }

@@ -4,6 +4,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -117,8 +118,10 @@ void check_announced_counts(const std::string& path, std::uintmax_t size) {
   }
   if (vertices * 6 + faces > static_cast<double>(size) || vertices < 0 || faces < 0)
     throw ParseError(path, 0,
-                     "announces " + std::to_string(static_cast<long long>(vertices)) +
-                         " vertices and " + std::to_string(static_cast<long long>(faces)) +
+                     "announces " +
+                         std::to_string(static_cast<long long>(std::clamp(vertices, -9e18, 9e18))) +
+                         " vertices and " +
+                         std::to_string(static_cast<long long>(std::clamp(faces, -9e18, 9e18))) +
                          " faces but the file has only " + std::to_string(size) + " bytes");
 }
 
