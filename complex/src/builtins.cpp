@@ -251,10 +251,10 @@ Complex make_product(const Complex& pc, const Complex& qc) {
     for (int k = 0; k <= x->dim(); ++k) total += static_cast<double>(x->count(k));
     pairs *= total;
   }
-  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 5e6 || pairs > 5e6)
+  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 2e6 || pairs > 2e6)
     throw InputError("the product is too large (" +
                      std::to_string(static_cast<long long>(std::min(pairs, 9e18))) +
-                     " elements, at most 5000000)");
+                     " elements, at most 2000000)");
   // offset[i][j]: first id of the block of pairs (rank-i element of P, rank-j element of Q).
   std::vector<std::vector<std::uint32_t>> offset(p + 1, std::vector<std::uint32_t>(q + 1, 0));
   std::vector<std::uint32_t> rank_count(n + 1, 0);
