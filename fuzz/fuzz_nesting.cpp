@@ -17,11 +17,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Specs: heads chosen by the low bits; product: takes a second operand after the base.
   static const char* const heads[] = {"prism:", "dual:", "cone:", "pyramid:", "product:"};
   std::string spec, tail;
-  int dimension_ops = 0;  // prism, cone, pyramid and product add dimensions
+  int dim = 2;  // of the result: polygon:3 is 2D, prism/cone/pyramid add 1, product 2
   for (std::size_t i = 0; i + 1 < size; ++i) {
     const int h = data[i] % 5;
     spec += heads[h];
-    if (h != 1) ++dimension_ops;
+    dim += h == 1 ? 0 : h == 4 ? 2 : 1;
     if (h == 4) tail += "*polygon:3";
   }
   spec += data[size - 1] & 1 ? "polygon:3" : "nosuch";
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Deep specs are refused before anything is built; shallow ones that add many dimensions
   // would build a large complex (each level multiplies the size), which is the size limits'
   // business, not this target's.
-  if (size <= cw4d::max_model_nesting && dimension_ops > 4) return 0;
+  if (size <= cw4d::max_model_nesting && dim > 5) return 0;
   try {
     const cw4d::Complex c = cw4d::load_model(spec);
     (void)c.fvector();
