@@ -156,7 +156,7 @@ run_fuzz_smoke() {
   cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ >&2 ||
     return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
-  for target in off scene spec; do
+  for target in off scene spec nesting; do
     # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
     work="$dir/corpus-$target"
     mkdir -p "$work"

@@ -5,17 +5,32 @@
 // too: the reader throws ParseError with the same line, or validate() names an element whose
 // line OffLines reports. (test_off_io.cpp has the reader's per-message catalogue; this one is
 // about what a user of the CLI sees.)
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/types.h>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <catch2/catch.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/builder.hpp"
+#include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/scene.hpp"
@@ -367,6 +382,491 @@ TEST_CASE("contradictory command lines: exit 1 naming the options, nothing read 
       check_one_printable_error_line(r);
       CHECK(r.err.find(b.needle) != std::string::npos);
       CHECK(listing(dir).empty());
+    }
+  }
+}
+
+// --- resource limits: what would crash, hang or take the machine ---------------------------------
+
+namespace {
+
+// Runs with a wall-clock guard: a hang becomes a killed process (a failure) instead of a stuck
+// suite.
+Result run_guarded(const TempDir& dir, const std::vector<std::string>& args) {
+  const std::string out = (dir / ".stdout").string(), err = (dir / ".stderr").string();
+  std::string cmd = "cd " + quote(dir.path().string()) + " && timeout --signal=KILL 60 " +
+                    quote(CW4D_EXE);
+  for (const auto& a : args) cmd += ' ' + quote(a);
+  cmd += " >" + quote(out) + " 2>" + quote(err) + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+// The first number after `key` in a JSON text.
+long long number_after(const std::string& text, const std::string& key) {
+  std::size_t at = text.find(key);
+  if (at == std::string::npos) return -1;
+  at = text.find_first_of("-0123456789", at + key.size());
+  return at == std::string::npos ? -1 : std::stoll(text.substr(at));
+}
+
+std::string repeat(const std::string& s, int n) {
+  std::string out;
+  for (int i = 0; i < n; ++i) out += s;
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("deeply nested specs and scenes: refused with a message, no stack overflow",
+          "[hostile][cli][limits]") {
+  TempDir dir;
+  for (const std::string op : {"prism:", "dual:", "cone:"}) {
+    DYNAMIC_SECTION(op << " x 20000") {
+      const Result r = run_guarded(dir, {"info", repeat(op, 20000) + "nosuch"});
+      CHECK(r.code == usage);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find("nests operators more than 32 deep") != std::string::npos);
+    }
+  }
+  SECTION("product: nested 5000 deep on the left") {
+    // (5000 levels: the argument stays below Linux's 128 KiB per argument.)
+    const Result r = run_guarded(dir, {"info", repeat("product:", 5000) + "polygon:3" +
+                                                   repeat("*polygon:3", 5000)});
+    CHECK(r.code == usage);
+    CHECK(r.err.find("nests operators") != std::string::npos);
+  }
+  SECTION("a scene nested 10^5 deep") {
+    dir.write("deep.json", "{\"objects\": " + repeat("[", 100000) + repeat("]", 100000) + "}");
+    const Result r =
+        run_guarded(dir, {"slice", "--scene", "deep.json", "--normal", "0,0,0,1", "--offset", "0",
+                          "-o", "a.obj"});
+    CHECK(r.code == bad_input);
+    check_one_printable_error_line(r);
+    CHECK(r.err.find("deep.json:1: ") != std::string::npos);
+    CHECK(r.err.find("nest more than 64 deep") != std::string::npos);
+    CHECK_FALSE(dir.exists("a.obj"));
+  }
+  SECTION("nesting within the limit still works, left or right") {
+    struct Nested {
+      std::string spec;
+      int dim;
+      long long vertices;  // products multiply the vertex counts
+    };
+    for (const Nested& n : {Nested{"product:product:polygon:3*polygon:4*polygon:5", 6, 60},
+                            Nested{"product:polygon:3*product:polygon:4*polygon:5", 6, 60},
+                            Nested{"prism:prism:prism:5-cell", 7, 40}}) {
+      INFO(n.spec);
+      const Result r = run_guarded(dir, {"info", n.spec, "--json"});
+      REQUIRE(r.code == 0);
+      CHECK(r.out.find("\"valid\": true") != std::string::npos);
+      CHECK(number_after(r.out, "\"dimension\"") == n.dim);
+      CHECK(number_after(r.out, "\"fvector\"") == n.vertices);
+    }
+  }
+}
+
+TEST_CASE("every input path refuses FIFOs and endless devices", "[hostile][cli][limits]") {
+  TempDir dir;
+  REQUIRE(::mkfifo((dir / "p").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((dir / "p.off").c_str(), 0600) == 0);
+  for (const std::string spec : {"hull:p", "extrude:p.off", "spin:p.off,8", "p.off", "hull:/dev/zero",
+                                 "extrude:/dev/zero", "/dev/zero"}) {
+    DYNAMIC_SECTION(spec) {
+      const Result r = run_guarded(dir, {"info", spec});
+      CHECK(r.code == bad_input);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find("not a regular file") != std::string::npos);
+    }
+  }
+  SECTION("--scene FIFO") {
+    const Result r = run_guarded(dir, {"slice", "--scene", "p", "--normal", "0,0,0,1", "--offset",
+                                       "0", "-o", "a.obj"});
+    CHECK(r.code == bad_input);
+    CHECK(r.err.find("not a regular file") != std::string::npos);
+  }
+}
+
+TEST_CASE("outputs that are not regular files are written through, never replaced",
+          "[hostile][cli][output]") {
+  TempDir dir;
+  const std::vector<std::string> slice = {"slice", "tesseract", "--normal", "0,0,0,1",
+                                          "--offset", "0.5", "--format", "obj", "-o"};
+  auto with = [&](const std::string& out) {
+    auto a = slice;
+    a.push_back(out);
+    return a;
+  };
+  // Copies of /dev/null and /dev/full as device nodes (root only), else the real ones (only
+  // written through, which is what is checked).
+  const bool nodes = ::mknod((dir / "null").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0 &&
+                     ::mknod((dir / "full").c_str(), S_IFCHR | 0666, makedev(1, 7)) == 0;
+  const std::string null = nodes ? "null" : "/dev/null", full = nodes ? "full" : "/dev/full";
+  const auto is_char_device = [&](const std::string& name) {
+    struct stat st {};
+    return ::stat((name[0] == '/' ? fs::path(name) : dir / name).c_str(), &st) == 0 &&
+           S_ISCHR(st.st_mode);
+  };
+  SECTION("a null device stays a device; the section goes into it") {
+    const Result r = run_guarded(dir, with(null));
+    CHECK(r.code == 0);
+    CHECK(is_char_device(null));
+  }
+  SECTION("a full device: no space left, exit 4, still a device") {
+    const Result r = run_guarded(dir, with(full));
+    CHECK(r.code == 4);
+    check_one_printable_error_line(r);
+    CHECK(r.err.find("no space left") != std::string::npos);
+    CHECK(is_char_device(full));
+  }
+  SECTION("a FIFO nobody reads: refused with exit 4, not waited on, still a FIFO") {
+    REQUIRE(::mkfifo((dir / "fifo.obj").c_str(), 0600) == 0);
+    const Result r = run_guarded(dir, with("fifo.obj"));
+    CHECK(r.code == 4);
+    check_one_printable_error_line(r);
+    CHECK(r.err.find("no process is reading it") != std::string::npos);
+    struct stat st {};
+    REQUIRE(::stat((dir / "fifo.obj").c_str(), &st) == 0);
+    CHECK(S_ISFIFO(st.st_mode));
+  }
+  SECTION("a symbolic link keeps pointing at the file it names, which gets the section") {
+    dir.write("real.obj", "old\n");
+    fs::create_symlink("real.obj", dir / "link.obj");
+    const Result r = run_guarded(dir, with("link.obj"));
+    CHECK(r.code == 0);
+    CHECK(fs::is_symlink(dir / "link.obj"));
+    CHECK(read_text((dir / "real.obj").string()).rfind("# cw4d", 0) == 0);
+  }
+}
+
+TEST_CASE("inputs that announce more than they hold: exit 2 before allocating",
+          "[hostile][cli][limits]") {
+  TempDir dir;
+  // OpenMesh reserves what the header announces: 2e9 vertices in a 60-byte file.
+  dir.write("huge.off", "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  dir.write("huge.ply",
+            "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nproperty float "
+            "y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n");
+  for (const std::string spec : {"extrude:huge.off", "spin:huge.ply,8"}) {
+    DYNAMIC_SECTION(spec) {
+      const Result r = run_guarded(dir, {"info", spec});
+      CHECK(r.code == bad_input);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find("announces 2000000000 vertices") != std::string::npos);
+    }
+  }
+  SECTION("a render that would hold 2 * 64 images of 4096 x 4096 pixels") {
+    const Result r = run_guarded(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--mode",
+                                       "sheet", "--layers", "64", "--size", "4096x4096", "-o",
+                                       "a.png"});
+    CHECK(r.code == usage);
+    check_one_printable_error_line(r);
+    CHECK(r.err.find("pixels in memory") != std::string::npos);
+    CHECK_FALSE(dir.exists("a.png"));
+  }
+}
+
+TEST_CASE("orientation_work counts what orienting walks, and bounds it up front",
+          "[hostile][limits]") {
+  // The oracle: walk the simplices for_each_simplex emits over the facets.
+  for (const std::string spec : {"tesseract", "24-cell", "cube:6", "simplex:5", "duoprism:5,7",
+                                 "prism:16-cell", "orthoplex:5"}) {
+    INFO(spec);
+    const cw4d::Complex c = cw4d::load_model(spec);
+    const int n = c.ambient_dim();
+    double walked = 0;
+    for (std::uint32_t f = 0; f < c.count(n - 1); ++f)
+      cw4d::for_each_simplex(c, n - 1, f, [&](std::span<const std::uint32_t>, int) { ++walked; });
+    CHECK(cw4d::orientation_work(c) == Approx(walked * n * n * n / 64.0));
+  }
+  // A model beyond the budget is refused before it is oriented, with the CLI's exit 1.
+  TempDir dir;
+  for (const std::string spec :
+       {"product:polygon:3500*polygon:3500", "prism:prism:prism:prism:prism:prism:prism:5-cell"}) {
+    DYNAMIC_SECTION(spec) {
+      const Result r = run_guarded(dir, {"info", spec});
+      CHECK(r.code == usage);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find("too large") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("temporaries are removed when SIGTERM or SIGINT ends the process",
+          "[hostile][output][signals]") {
+  TempDir dir;
+  for (const int sig : {SIGTERM, SIGINT}) {
+    for (const bool folder : {false, true}) {
+      DYNAMIC_SECTION("signal " << sig << (folder ? ", a staging folder" : ", a file")) {
+        const fs::path tmp = dir / (folder ? ".staging" : ".out.tmp");
+        const pid_t child = ::fork();
+        REQUIRE(child >= 0);
+        if (child == 0) {
+          // The test framework catches these signals; the program under test does not.
+          ::signal(SIGTERM, SIG_DFL);
+          ::signal(SIGINT, SIG_DFL);
+          if (folder) {
+            fs::create_directory(tmp);
+            std::ofstream(tmp / "layer_000.obj") << "v 0 0 0\n";
+            std::ofstream(tmp / "layer_001.obj") << "v 0 0 0\n";
+          } else {
+            std::ofstream(tmp) << "partial";
+          }
+          cw4d::TemporaryGuard guard(tmp.string(), folder);
+          ::raise(sig);
+          ::_exit(0);  // not reached: the signal ends the process
+        }
+        int status = 0;
+        REQUIRE(::waitpid(child, &status, 0) == child);
+        CHECK(WIFSIGNALED(status));
+        CHECK(WTERMSIG(status) == sig);
+        CHECK_FALSE(fs::exists(tmp));
+      }
+    }
+  }
+  SECTION("a released guard leaves its file to its owner") {
+    const fs::path kept = dir / "kept";
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+      ::signal(SIGTERM, SIG_DFL);
+      std::ofstream(kept) << "done";
+      cw4d::TemporaryGuard guard(kept.string(), false);
+      guard.release();
+      ::raise(SIGTERM);
+      ::_exit(0);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(child, &status, 0) == child);
+    CHECK(fs::exists(kept));
+  }
+}
+
+TEST_CASE("a sweep into a folder appears whole or not at all", "[hostile][cli][output]") {
+  TempDir dir;
+  SECTION("success: the folder holds every layer and nothing else") {
+    const Result r = run_guarded(dir, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from",
+                                       "-0.5", "--to", "0.5", "--layers", "3", "-o", "out/layers"});
+    REQUIRE(r.code == 0);
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir / "out/layers"))
+      names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    CHECK(names == std::vector<std::string>{"layer_000.obj", "layer_001.obj", "layer_002.obj"});
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+      CHECK(e.path().filename() == "layers");  // no staging folder left
+  }
+  SECTION("failure: an unwritable layer leaves no folder and no staging") {
+    // Layer 1 cannot be written (a directory is in its place): nothing may remain.
+    fs::create_directories(dir / "out/layer_001.obj");
+    const Result r = run_guarded(dir, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from",
+                                       "-0.5", "--to", "0.5", "--layers", "3", "-o", "out"});
+    CHECK(r.code == 4);
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+      names.push_back(fs::relative(e.path(), dir / "out").string());
+    CHECK(names == std::vector<std::string>{"layer_001.obj"});
+  }
+}
+
+TEST_CASE("messages in the user's terms", "[hostile][cli][messages]") {
+  TempDir dir;
+  struct Case {
+    std::string label;
+    std::vector<std::string> args;
+    int code;
+    std::string needle;
+  };
+  dir.write("flat.txt", "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n");
+  dir.write("same.txt", "1 1 1 1\n1 1 1 1\n1 1 1 1\n1 1 1 1\n1 1 1 1\n");
+  const std::vector<Case> cases = {
+      {"typo'd subcommand", {"slcie", "tesseract"}, usage, "unknown subcommand 'slcie'; did you mean 'slice'?"},
+      {"unknown model, close to a name", {"info", "24cell"}, usage, "did you mean '24-cell'?"},
+      {"unknown model, spaces typed as dashes", {"info", "grand-antiprism"}, usage,
+       "did you mean 'grand antiprism'?"},
+      {"unknown operator head", {"info", "prsim:tesseract"}, usage, "did you mean 'prism:tesseract'?"},
+      {"a missing mesh file", {"info", "extrude:nothere.off"}, bad_input, "nothere.off:0: cannot open: file not found"},
+      {"points in a hyperplane", {"info", "hull:flat.txt"}, usage, "flat.txt: no convex hull: the points lie in a lower-dimensional flat"},
+      {"coincident points", {"info", "hull:same.txt"}, usage, "same.txt: no convex hull: all points coincide"},
+      {"a format the extension contradicts", {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--format", "stl", "-o", "a.obj"},
+       usage, "--format stl contradicts the extension of 'a.obj'"},
+      {"a plane that misses names the range", {"slice", "tesseract", "--normal", "0,0,0,2", "--offset", "3", "-o", "a.obj"},
+       5, "it meets d from -1 to 1 along the unit normal (0,0,0,1)"},
+      {"a scene scale of 1e155", {"slice", "--scene", "big.json", "--normal", "0,0,0,1", "--offset", "0", "-o", "a.obj"},
+       usage, "has coordinates up to 1e+155"},
+      {"a Miratope polygon", {"info", "poly.off"}, bad_input, "is Miratope's file of a polygon"},
+  };
+  dir.write("big.json", "{\"objects\": [{\"model\": \"tesseract\", \"scale\": 1e155}]}");
+  dir.write("poly.off", "2OFF\n3 1\n0 0\n1 0\n0 1\n3 0 1 2\n");
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.label) {
+      const Result r = run_guarded(dir, c.args);
+      CHECK(r.code == c.code);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find(c.needle) != std::string::npos);
+      CHECK_FALSE(dir.exists("a.obj"));
+    }
+  }
+  SECTION("--version, help, help COMMAND") {
+    Result r = run_guarded(dir, {"--version"});
+    CHECK(r.code == 0);
+    CHECK(r.out.rfind("cw4d ", 0) == 0);
+    r = run_guarded(dir, {"help"});
+    CHECK(r.code == 0);
+    CHECK(r.out.find("Exit codes:") != std::string::npos);
+    r = run_guarded(dir, {"help", "slice"});
+    CHECK(r.code == 0);
+    CHECK(r.out.find("--offset") != std::string::npos);
+  }
+  SECTION("info --normal prints the offsets that meet the model") {
+    // The 24-cell (x3o4o3o, edge 2) has vertices (+-2, 0, 0, 0) and permutations... along w
+    // its vertices reach +-2 (its circumradius is 2, the edge).
+    const Result r = run_guarded(dir, {"info", "24-cell", "--normal", "0,0,0,5"});
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("offsets    d from -") != std::string::npos);
+    const Result t = run_guarded(dir, {"info", "tesseract", "--normal", "1,1,1,1", "--json"});
+    REQUIRE(t.code == 0);
+    // Along (1,1,1,1)/2 the tesseract [-1,1]^4 spans -2 .. 2.
+    CHECK(t.out.find("\"min\": -2.0") != std::string::npos);
+    CHECK(t.out.find("\"max\": 2.0") != std::string::npos);
+  }
+}
+
+TEST_CASE("decisions do not depend on units: huge, tiny and extreme values", "[hostile][cli][scale]") {
+  TempDir dir;
+  std::string big, tiny;
+  for (int m = 0; m < 16; ++m) {
+    std::string line, small;
+    for (int i = 0; i < 4; ++i) {
+      line += std::string(i ? " " : "") + ((m >> i) & 1 ? "1e200" : "-1e200");
+      small += std::string(i ? " " : "") + ((m >> i) & 1 ? "1e-200" : "-1e-200");
+    }
+    big += line + "\n";
+    tiny += small + "\n";
+  }
+  dir.write("big.txt", big);
+  dir.write("tiny.txt", tiny);
+  for (const std::string spec : {"hull:big.txt", "hull:tiny.txt"}) {
+    DYNAMIC_SECTION(spec) {
+      // The hull of the tesseract's vertices, in any unit, is a tesseract: 16 8 cells.
+      const Result r = run_guarded(dir, {"info", spec, "--json"});
+      REQUIRE(r.code == 0);
+      CHECK(r.out.find("\"valid\": true") != std::string::npos);
+      CHECK(number_after(r.out, "\"fvector\"") == 16);
+      CHECK(r.out.find("8\n  ]") != std::string::npos);
+    }
+  }
+  // Normals and rotations of extreme magnitude are directions like any other: the section of
+  // the tesseract by w = 0 (a cube of volume 8) whatever their length.
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"--normal", "0,0,0,1e-320"},
+        std::vector<std::string>{"--normal", "0,0,0,1e308"},
+        std::vector<std::string>{"--normal", "0,0,0,1", "--rotate", "xy:1e308"}}) {
+    DYNAMIC_SECTION(extra[1] << (extra.size() > 2 ? " " + extra[3] : std::string())) {
+      std::vector<std::string> args = {"slice", "tesseract", "--offset", "0", "-o", "a.obj"};
+      args.insert(args.end(), extra.begin(), extra.end());
+      const Result r = run_guarded(dir, args);
+      REQUIRE(r.code == 0);
+      CHECK(r.out.find("volume 8") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("files from the wild: a byte-order mark, zero-volume polyhedra decided exactly",
+          "[hostile][wild]") {
+  TempDir dir;
+  SECTION("a UTF-8 byte-order mark before the header is accepted") {
+    dir.write("bom.4off", "\xEF\xBB\xBF" + join(five_cell_lines()));
+    const Result r = run_guarded(dir, {"convert", "bom.4off", "-o", "copy.4off"});
+    CHECK(r.code == 0);
+    CHECK(r.out.find("5 vertices, 10 edges, 10 faces, 5 cells") != std::string::npos);
+  }
+  SECTION("the octahemioctahedron (zero volume) is refused as given, mirrored and scaled") {
+    // Vertices: the cuboctahedron's 12, the permutations of (+-1, +-1, 0). Faces: its 8
+    // triangles and the 4 hexagons through the centre normal to the body diagonals.
+    std::vector<Eigen::Vector3d> v;
+    for (int zero = 0; zero < 3; ++zero)
+      for (int s = 0; s < 4; ++s) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        p((zero + 1) % 3) = s & 1 ? 1 : -1;
+        p((zero + 2) % 3) = s & 2 ? 1 : -1;
+        v.push_back(p);
+      }
+    std::vector<std::vector<int>> faces;
+    for (int s = 0; s < 8; ++s) {
+      const Eigen::Vector3d d(s & 1 ? 1 : -1, s & 2 ? 1 : -1, s & 4 ? 1 : -1);
+      std::vector<int> tri;  // the triangle around the vertex d of the cube: v . d = 2
+      for (int i = 0; i < 12; ++i)
+        if (v[i].dot(d) == 2) tri.push_back(i);
+      faces.push_back(tri);
+    }
+    for (int s = 0; s < 4; ++s) {
+      const Eigen::Vector3d d(1, s & 1 ? 1 : -1, s & 2 ? 1 : -1);
+      const Eigen::Vector3d a = d.unitOrthogonal(), b = d.normalized().cross(a);
+      std::vector<std::pair<double, int>> ring;
+      for (int i = 0; i < 12; ++i)
+        if (v[i].dot(d) == 0) ring.push_back({std::atan2(v[i].dot(b), v[i].dot(a)), i});
+      std::sort(ring.begin(), ring.end());
+      std::vector<int> hex;
+      for (const auto& [angle, i] : ring) hex.push_back(i);
+      faces.push_back(hex);
+    }
+    REQUIRE(faces.size() == 12);
+    auto off = [&](double sx, double scale) {
+      std::string out = "OFF\n12 12 24\n";
+      for (const auto& p : v) {
+        char line[128];
+        std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", sx * scale * p.x(),
+                      scale * p.y(), scale * p.z());
+        out += line;
+      }
+      for (const auto& f : faces) {
+        out += std::to_string(f.size());
+        for (int i : f) out += " " + std::to_string(i);
+        out += "\n";
+      }
+      return out;
+    };
+    std::vector<std::string> verdicts;
+    for (const auto& [label, sx, scale] :
+         {std::tuple{"as given", 1.0, 1.0}, std::tuple{"mirrored", -1.0, 1.0},
+          std::tuple{"scaled x3", 1.0, 3.0}, std::tuple{"scaled x1e-7", 1.0, 1e-7},
+          std::tuple{"mirrored, scaled x0.3", -1.0, 0.3}}) {
+      INFO(label);
+      dir.write("ohoh.off", off(sx, scale));
+      const cw4d::ValidationReport report = cw4d::validate(cw4d::read_off_file((dir / "ohoh.off").string()));
+      CHECK_FALSE(report.ok());
+      verdicts.push_back(report.summary());
+    }
+    for (const auto& verdict : verdicts) {
+      CHECK(verdict == verdicts.front());
+      CHECK(verdict.find("encloses no volume") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("an interrupted sweep leaves nothing behind", "[hostile][cli][signals]") {
+  for (const std::string sig : {"TERM", "INT"}) {
+    DYNAMIC_SECTION("SIG" << sig) {
+      TempDir dir;
+      // 5000 layers of the 120-cell take far more than a second: the signal lands mid-sweep.
+      const std::string cmd = "cd " + quote(dir.path().string()) + " && timeout -s " + sig +
+                              " 1 " + quote(CW4D_EXE) +
+                              " sweep 120-cell --normal 1,2,3,4 --from -3 --to 3 --layers 5000"
+                              " -q -o out/layers >/dev/null 2>&1";
+      const int status = std::system(cmd.c_str());
+      REQUIRE(WIFEXITED(status));
+      REQUIRE(WEXITSTATUS(status) == 124);  // interrupted, not finished
+      // At most the (empty) parent folder the sweep created: no layer, no staging folder.
+      const auto left = listing(dir);
+      CHECK((left.empty() || left == std::vector<std::string>{"out"}));
     }
   }
 }

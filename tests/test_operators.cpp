@@ -344,7 +344,8 @@ TEST_CASE("read_polyhedron reads OBJ, OFF and STL and keeps polygons", "[mesh_im
 TEST_CASE("read_polyhedron errors name the file", "[mesh_import][errors]") {
   TempDir dir("errors");
   const std::string missing = (dir.path / "missing.obj").string();
-  CHECK_THROWS_AS(read_polyhedron(missing), IoError);
+  // A missing input is bad input (exit 2 in the CLI), not a write failure.
+  CHECK_THROWS_AS(read_polyhedron(missing), ParseError);
   std::string open = cube_obj(-1.0);
   open.erase(open.find("f 2 4 8 6"));
   const std::string open_path = dir.write("open.obj", open);
@@ -356,7 +357,7 @@ TEST_CASE("read_polyhedron errors name the file", "[mesh_import][errors]") {
   }
   CHECK_THROWS_AS(read_polyhedron(dir.write("cube.xyz", cube_obj(-1.0))), ParseError);
   CHECK_THROWS_AS(read_polyhedron(dir.write("empty.obj", "# nothing\n")), ParseError);
-  CHECK_THROWS_AS(load_model("extrude:" + missing), IoError);
+  CHECK_THROWS_AS(load_model("extrude:" + missing), ParseError);
 }
 
 TEST_CASE("extrusions of mesh files are prisms", "[mesh_import][extrude]") {

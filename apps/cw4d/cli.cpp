@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <ios>
+#include <limits>
 #include <numbers>
 #include <tuple>
 
@@ -111,6 +112,17 @@ std::string describe_counts(const Complex& c) {
   return out;
 }
 
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& names) {
+  const std::string guess = closest_name(word, names);
+  return guess.empty() ? std::string() : "; did you mean '" + guess + "'?";
+}
+
+std::vector<std::string> subcommand_names(CLI::App& app) {
+  std::vector<std::string> names{"help"};
+  for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  return names;
+}
+
 // --- models and files ------------------------------------------------------------------------
 
 // load_model reports unreadable files as ParseError, except read failures after a successful
@@ -168,6 +180,9 @@ Rotation parse_rotation(const std::string& text) {
   r.text = text;
   std::tie(r.axis_i, r.axis_j) = parse_rotation_plane(text.substr(0, colon));
   r.degrees = parse_number(std::string_view(text).substr(colon + 1), "--rotate '" + text + "'");
+  // Whole turns removed exactly (fmod is exact), so that 1e308 degrees is a rotation like any
+  // other instead of overflowing when turned into radians.
+  r.degrees = std::fmod(r.degrees, 360.0);
   return r;
 }
 
@@ -293,6 +308,28 @@ Input load_input(const Placement& placement) {
   const int dim = in.dim();
   placement.check_dimension(dim);
   if (!in.is_scene) in.scene.objects.front().transform = placement.model_to_world(dim);
+  // Coordinates are used as doubles: squared distances and 3-volumes of sections stay finite
+  // and nonzero only for sizes within 1e-100 .. 1e100. Refuse what lies outside (a scene scale
+  // of 1e155, a file in units of 1e200) instead of answering "the plane misses".
+  for (std::size_t i = 0; i < in.scene.objects.size(); ++i) {
+    const SceneObject& obj = in.scene.objects[i];
+    const auto& pos = obj.complex->positions();
+    if (pos.cols() == 0) continue;
+    const Eigen::MatrixXd world =
+        (obj.transform.linear() * pos).colwise() + obj.transform.translation();
+    const double big = world.cwiseAbs().maxCoeff();
+    const double extent = (world.rowwise().maxCoeff() - world.rowwise().minCoeff()).maxCoeff();
+    const std::string what =
+        in.is_scene ? "object " + std::to_string(i) + " (" + obj.model + ") of scene '" +
+                          placement.scene + "'"
+                    : "model '" + obj.model + "'";
+    if (!(big <= 1e100))
+      throw InputError(what + " has coordinates up to " + brief(big) +
+                       " once placed: cw4d cuts models within 1e100 of the origin (scale it down)");
+    if (!(extent >= 1e-100))
+      throw InputError(what + " spans only " + brief(extent) +
+                       " once placed: cw4d cuts models at least 1e-100 across (scale it up)");
+  }
   std::vector<const Complex*> checked;  // objects share models: validate each once
   for (const auto& obj : in.scene.objects) {
     if (std::find(checked.begin(), checked.end(), obj.complex.get()) != checked.end()) continue;
@@ -300,6 +337,33 @@ Input load_input(const Placement& placement) {
     checked.push_back(obj.complex.get());
   }
   return in;
+}
+
+std::pair<double, double> offset_interval(const Complex& model, const AffineTransform& to_world,
+                                          const Eigen::VectorXd& unit_normal) {
+  // n . (L x + t) = (L^T n) . x + n . t
+  const Eigen::VectorXd m = to_world.linear().transpose() * unit_normal;
+  const double shift = unit_normal.dot(to_world.translation());
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const auto& p = model.positions();
+  for (Eigen::Index v = 0; v < p.cols(); ++v) {
+    const double h = m.dot(p.col(v)) + shift;
+    lo = std::min(lo, h);
+    hi = std::max(hi, h);
+  }
+  return {lo, hi};
+}
+
+std::string offset_range(const Input& input, const Hyperplane& plane) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& obj : input.scene.objects) {
+    const auto [a, b] = offset_interval(*obj.complex, obj.transform, plane.normal);
+    lo = std::min(lo, a);
+    hi = std::max(hi, b);
+  }
+  std::vector<double> n(plane.normal.data(), plane.normal.data() + plane.normal.size());
+  return "d from " + brief(lo) + " to " + brief(hi) + " along the unit normal (" +
+         join(n, brief) + ")";
 }
 
 Cut cut(const Input& input, const Hyperplane& plane) {

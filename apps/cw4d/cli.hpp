@@ -63,6 +63,11 @@ std::string describe_counts(const Complex& c);
 /// "vertex"/"vertices", "edge"/"edges", ... for rank 0..3, "rank-k element(s)" above.
 std::string rank_name(int rank, std::size_t count);
 
+/// "; did you mean 'slice'?" for the closest of `names` (closest_name), or "".
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& names);
+/// The names of the app's subcommands.
+std::vector<std::string> subcommand_names(CLI::App& app);
+
 // --- models and files ------------------------------------------------------------------------
 
 /// load_model, with read failures after a successful open (a directory) as ParseError.
@@ -125,6 +130,13 @@ struct Input {
 /// Loads the model or scene, checks the placement against its dimension and validates every
 /// model once. \throw ParseError, InputError, TopologyError
 Input load_input(const Placement& placement);
+
+/// The offsets d for which the plane normal . x = d meets the input (its world-space vertices):
+/// "d from -2 to 2 along n=(0,0,0,1)", for messages and `cw4d info --normal`.
+std::string offset_range(const Input& input, const Hyperplane& plane);
+/// The same for one model in its own coordinates.
+std::pair<double, double> offset_interval(const Complex& model, const AffineTransform& to_world,
+                                          const Eigen::VectorXd& unit_normal);
 
 /// The section of the input.
 struct Cut {

@@ -1,4 +1,5 @@
 // cw4d list, info and convert: the commands about models themselves.
+#include <algorithm>
 #include <iostream>
 #include <optional>
 
@@ -28,9 +29,16 @@ namespace {
 struct InfoSettings {
   std::string model;
   bool json = false;
+  std::string normal;  // --normal: also print the offsets where planes of it meet the model
 };
 
 void run_info(const InfoSettings& s) {
+  std::vector<double> normal;
+  if (!s.normal.empty()) {
+    normal = parse_vector(s.normal, "--normal");  // refused before the model is built
+    if (std::all_of(normal.begin(), normal.end(), [](double x) { return x == 0.0; }))
+      throw InputError("--normal must not be the zero vector");
+  }
   const Complex model = load(s.model);
   const ValidationReport report = validate(model);
   const int dim = model.ambient_dim();
@@ -46,6 +54,16 @@ void run_info(const InfoSettings& s) {
   // The enclosed volume only means something for a valid closed complex.
   std::optional<double> volume;
   if (report.ok()) volume = signed_volume(model);
+  std::optional<std::pair<double, double>> range;
+  Eigen::VectorXd unit;
+  if (!normal.empty()) {
+    if (normal.size() != static_cast<std::size_t>(dim))
+      throw InputError("--normal has " + std::to_string(normal.size()) + " components but model '" +
+                       s.model + "' lives in R^" + std::to_string(dim) + ": give " +
+                       std::to_string(dim) + " comma-separated numbers");
+    unit = Hyperplane::from(Eigen::Map<const Eigen::VectorXd>(normal.data(), dim), 0.0).normal;
+    if (!model.empty()) range = offset_interval(model, AffineTransform::identity(dim), unit);
+  }
 
   if (s.json) {
     nlohmann::ordered_json j;
@@ -58,6 +76,10 @@ void run_info(const InfoSettings& s) {
     for (const auto& issue : report.issues) j["issues"].push_back(issue.what);
     j["bounds"] = {{"min", lo}, {"max", hi}};
     j["volume"] = volume ? nlohmann::ordered_json(*volume) : nlohmann::ordered_json(nullptr);
+    if (range) {
+      j["normal"] = std::vector<double>(unit.data(), unit.data() + unit.size());
+      j["offsets"] = {{"min", range->first}, {"max", range->second}};
+    }
     std::cout << j.dump(2) << '\n';
     return;
   }
@@ -73,6 +95,12 @@ void run_info(const InfoSettings& s) {
             << "valid      " << (report.ok() ? "yes" : "no: " + report.summary()) << '\n'
             << "bounds     min (" << join(lo, brief) << ")  max (" << join(hi, brief) << ")\n"
             << "volume     " << (volume ? brief(*volume) : "n/a (invalid complex)") << '\n';
+  if (range) {
+    std::vector<double> u(unit.data(), unit.data() + unit.size());
+    std::cout << "offsets    d from " << brief(range->first) << " to " << brief(range->second)
+              << " along the unit normal (" << join(u, brief)
+              << "): planes n.x = d with d in this range meet the model\n";
+  }
 }
 
 struct ConvertSettings {
@@ -100,6 +128,10 @@ void add_info_command(CLI::App& app, Commands& commands) {
   cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
       ->required();
   cmd->add_flag("--json", settings->json, "Print one JSON object instead of text");
+  cmd->add_option("--normal", settings->normal,
+                  "Also print the range of offsets d for which the plane n.x = d (n normalized, "
+                  "as slice takes it) meets the model")
+      ->type_name("X,Y,Z,W");
   cmd->footer(
       "An invalid model is reported (\"valid\": false, with its issues), not an error: exit 0.\n"
       "The volume is null / n/a for an invalid model. Exit codes: see 'cw4d --help'.");

@@ -1,5 +1,6 @@
 // cw4d render: pictures (PNG) of sections, voxel clouds, 4D wireframes, stereographic views,
 // stereo pairs and sweeps, drawn by the software rasterizer of render/.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -85,8 +86,26 @@ const Complex* single_model(const Input& input) {
   return input.is_scene ? nullptr : input.models().front();
 }
 
+// The pixels a render holds at once (linear RGBA floats, 16 bytes each): a contact sheet keeps
+// every layer and the sheet, a stereo pair both views and the pair.
+constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
+
+void check_pixel_budget(const RenderSettings& s) {
+  const render::RasterOptions r = raster_options(s);
+  const int layers = s.layers > 0 ? s.layers : (s.mode == "sheet" ? 16 : 24);
+  const double images = s.mode == "sheet" ? 2.0 * layers : s.mode == "stereo" ? 4.0 : 1.0;
+  const double held = static_cast<double>(r.width) * r.height * images;
+  if (held > kMaxHeldPixels)
+    throw InputError("--size " + s.size + (s.mode == "sheet" ? " with " + std::to_string(layers) + " layers" : std::string()) +
+                     " would hold " + std::to_string(static_cast<long long>(std::min(held, 9e18))) +
+                     " pixels in memory (" + std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
+                     " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
+                     ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
+}
+
 void run_render(RenderSettings& s) {
   Placement& p = s.placement;
+  check_pixel_budget(s);
   const bool needs_plane = s.mode != "wireframe" && s.mode != "stereographic";
   if (p.normal_text.empty()) {
     if (needs_plane) throw InputError("render --mode " + s.mode + " needs --normal");
@@ -105,7 +124,9 @@ void run_render(RenderSettings& s) {
   if (s.mode == "section" || s.mode == "stereo") {
     const Cut c = cut(input, p.plane(s.offset));
     if (c.section.empty())
-      throw EmptySection("the plane misses " + p.input_label() + "; nothing written to '" + s.output + "'");
+      throw EmptySection("the plane misses " + p.input_label() + " (it meets " +
+                         offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
+                         s.output + "'");
     const auto o = section_options(s);
     const render::Image img = s.mode == "section"
                                   ? render::render_section(c.section, o, single_model(input))
@@ -157,7 +178,13 @@ void run_render(RenderSettings& s) {
     if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
     const auto eye = parse_vector(s.eye4_text, "--eye4");
     if (eye.size() != 4) throw InputError("--eye4 takes 4 components X,Y,Z,W");
-    const render::Camera4 cam = render::frame_scene(input.scene, Eigen::Map<const Eigen::VectorXd>(eye.data(), 4), s.fov4);
+    // A direction: brought near unit length by a power of two (exact), so that 1e-300 or 1e300
+    // components are not taken for zero or infinity.
+    Eigen::Vector4d from = Eigen::Map<const Eigen::Vector4d>(eye.data());
+    if (from.cwiseAbs().maxCoeff() == 0.0) throw InputError("--eye4 must not be the zero vector");
+    const int e = std::ilogb(from.cwiseAbs().maxCoeff());
+    from = from.unaryExpr([e](double x) { return std::scalbn(x, -e); }).eval();
+    const render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
     render::write_png(s.output, render::render_wireframe(input.scene, cam, o), background);
     what = std::string("4D wireframe") + (o.occlusion ? " with occlusion" : "");
   } else {  // stereographic

@@ -54,7 +54,8 @@ void run_slice(SliceSettings& s) {
   if (sec.empty())
     throw EmptySection("the plane " + cut_text +
                        (input.is_scene ? " misses every object of " : " misses ") +
-                       p.input_label() + "; nothing written to '" + s.output + "'");
+                       p.input_label() + " (it meets " + offset_range(input, p.plane(s.offset)) +
+                       "); nothing written to '" + s.output + "'");
 
   out.comment = "cw4d slice of " + (input.is_scene ? "scene " + p.scene : p.model) +
                 "\nplane: n=(" + join(p.normal, exact) + "), d=" + exact(s.offset) +

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "cli.hpp"
+#include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "output.hpp"
@@ -102,6 +103,32 @@ void run_sweep(SweepSettings& s) {
   check_format(out.format, input.dim(),
                p.input_label() + " lives in R^" + std::to_string(input.dim()));
 
+  // Layer files are written into a hidden staging folder beside their destination and moved
+  // into place only when the whole sweep succeeded: an error, SIGINT or SIGTERM leaves no
+  // layer behind (the staging folder is removed; TemporaryGuard covers the signals).
+  const fs::path destination = layer.directory;
+  fs::path staging;
+  TemporaryGuard staging_guard;
+  const bool new_folder = !one_file && ext.empty() && !fs::exists(destination);
+  if (!one_file) {
+    const fs::path home = new_folder ? destination.parent_path() : destination;
+    prepare_output_directory((home.empty() ? fs::path(".") : home / "x").string());
+    staging = (home.empty() ? fs::path(".") : home) /
+              ("." + (new_folder ? destination.filename().string() : layer.stem) + ".sweep." +
+               std::to_string(::getpid()));
+    std::error_code ec;
+    fs::create_directory(staging, ec);
+    if (ec)
+      throw IoError("cannot write '" + s.output + "': cannot create '" + staging.string() +
+                    "': " + ec.message());
+    staging_guard = TemporaryGuard(staging.string(), true);
+    layer.directory = staging;
+  }
+  const auto drop_staging = [&] {
+    std::error_code ignored;
+    if (!staging.empty()) fs::remove_all(staging, ignored);
+  };
+
   Progress progress(s.layers, !s.quiet);
   std::vector<GltfNode> nodes;
   std::vector<int> empty;
@@ -120,8 +147,12 @@ void run_sweep(SweepSettings& s) {
   Slicer slicer;
   std::vector<SliceBuffers> swept;
   std::vector<double> offsets;
-  const Eigen::VectorXd raw_normal =
+  // Brought near unit length by a power of two (exact, and what Hyperplane::from does), so that
+  // its length cannot overflow or underflow.
+  Eigen::VectorXd raw_normal =
       Eigen::Map<const Eigen::VectorXd>(p.normal.data(), static_cast<Eigen::Index>(p.normal.size()));
+  const int e = std::ilogb(raw_normal.cwiseAbs().maxCoeff());
+  raw_normal = raw_normal.unaryExpr([e](double x) { return std::scalbn(x, -e); }).eval();
   if (!input.is_scene)
     compiled.emplace(*input.scene.objects.front().complex, SliceModelOptions::unclustered());
   auto layer_section = [&](int i) {
@@ -161,18 +192,43 @@ void run_sweep(SweepSettings& s) {
       progress.step(i + 1);
     }
   } catch (...) {
-    // A failed sweep leaves none of its layers behind (files of earlier runs stay as they were,
-    // except those this run had already replaced).
-    for (const auto& f : files) {
-      std::error_code ignored;
-      fs::remove(f, ignored);
-    }
+    // A failed sweep leaves none of its layers behind (files of earlier runs stay as they were).
+    drop_staging();
     throw;
   }
   const std::string range = "d from " + brief(s.from) + " to " + brief(s.to);
-  if (static_cast<int>(empty.size()) == s.layers)
+  if (static_cast<int>(empty.size()) == s.layers) {
+    drop_staging();
     throw EmptySection("every layer of the sweep (" + range + ") misses " + p.input_label() +
-                       "; nothing written to '" + s.output + "'");
+                       " (it meets " + offset_range(input, p.plane(0.0)) +
+                       "); nothing written to '" + s.output + "'");
+  }
+  if (!one_file) {
+    // Into place: the staging folder becomes the new folder, or its files move one by one.
+    std::error_code ec;
+    if (new_folder) {
+      fs::rename(staging, destination, ec);
+    } else {
+      // A directory in a layer's place would stop the moves half way: check them all first.
+      for (const auto& f : files)
+        if (fs::is_directory(destination / fs::path(f).filename())) {
+          drop_staging();
+          throw IoError("cannot write '" + (destination / fs::path(f).filename()).string() +
+                        "': it is a directory");
+        }
+      for (const auto& f : files) {
+        fs::rename(f, destination / fs::path(f).filename(), ec);
+        if (ec) break;
+      }
+      if (!ec) fs::remove(staging, ec);
+    }
+    if (ec) {
+      drop_staging();
+      throw IoError("cannot write '" + s.output + "': " + ec.message());
+    }
+    staging_guard.release();
+    for (auto& w : written) w = (destination / fs::path(w).filename()).string();
+  }
   if (one_file) {
     GltfOptions opt;
     opt.binary = out.format == SectionFormat::glb;

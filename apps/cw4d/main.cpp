@@ -3,8 +3,10 @@
 // Options are parsed into one settings struct per subcommand and checked before any model is
 // loaded; every failure class maps to one documented exit code (kExitCodes in cli.cpp), and
 // every error is a single "cw4d: error: ..." line on stderr.
+#include <algorithm>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "cli.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
@@ -18,6 +20,11 @@ int fail(Exit code, const std::string& message) {
   return static_cast<int>(code);
 }
 
+// The subcommand argv names when it is not an option ("" when it is an option or missing).
+std::string first_word(int argc, char** argv) {
+  return argc > 1 && argv[1][0] != '-' ? std::string(argv[1]) : std::string();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -26,6 +33,7 @@ int main(int argc, char** argv) {
   CLI::App app{"cw4d: 4D polytopes as CW complexes, cut by hyperplanes into 3D meshes.", "cw4d"};
   app.footer(cli::kExitCodes);
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("cw4d ") + CW4D_VERSION);
 
   cli::Commands commands;
   cli::add_list_command(app, commands);
@@ -36,6 +44,30 @@ int main(int argc, char** argv) {
   cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
   cli::add_bench_command(app, commands);
+
+  // "cw4d help [COMMAND]" is "cw4d [COMMAND] --help"; an unknown first word is a mistyped
+  // subcommand, named as such (CLI11 would only say that a subcommand is required).
+  const std::string word = first_word(argc, argv);
+  if (word == "help") {
+    if (argc == 2) {
+      std::cout << app.help();
+      return static_cast<int>(Exit::ok);
+    }
+    for (const auto* sub : app.get_subcommands({}))
+      if (sub->get_name() == argv[2]) {
+        std::cout << sub->help();
+        return static_cast<int>(Exit::ok);
+      }
+    return fail(Exit::usage, "help: unknown subcommand '" + std::string(argv[2]) + "'" +
+                                 cli::did_you_mean(argv[2], cli::subcommand_names(app)) +
+                                 " (run 'cw4d help')");
+  }
+  if (!word.empty()) {
+    const auto names = cli::subcommand_names(app);
+    if (std::find(names.begin(), names.end(), word) == names.end())
+      return fail(Exit::usage, "unknown subcommand '" + word + "'" +
+                                   cli::did_you_mean(word, names) + " (run 'cw4d help')");
+  }
 
   try {
     app.parse(argc, argv);
@@ -57,6 +89,8 @@ int main(int argc, char** argv) {
     return fail(Exit::cannot_write, e.what());
   } catch (const cli::EmptySection& e) {
     return fail(Exit::empty_section, e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(Exit::internal, "out of memory");
   } catch (const std::exception& e) {
     return fail(Exit::internal, std::string("internal error: ") + e.what());
   }

@@ -56,17 +56,25 @@ std::string supported_formats() {
 }
 
 SectionFormat choose_format(const std::string& path, const std::string& forced) {
+  const std::string ext = lower_extension(path);
+  const FormatEntry* by_extension = nullptr;
+  for (const auto& e : kFormats)
+    for (const char* x : e.extensions)
+      if (x && ext == x) by_extension = &e;
   if (!forced.empty()) {
     for (const auto& e : kFormats)
       if (forced == e.name ||
-          (e.format == SectionFormat::off && (forced == "off" || forced == "noff")))
+          (e.format == SectionFormat::off && (forced == "off" || forced == "noff"))) {
+        // An extension that names another format would mislead whoever opens the file.
+        if (by_extension && by_extension->format != e.format)
+          throw InputError("--format " + forced + " contradicts the extension of '" + path +
+                           "' (" + by_extension->name + "): name the file ." +
+                           std::string(e.extensions[0] + 1) + " or drop --format");
         return e.format;
+      }
     throw InputError("--format " + forced + ": unknown format; supported: " + supported_formats());
   }
-  const std::string ext = lower_extension(path);
-  for (const auto& e : kFormats)
-    for (const char* x : e.extensions)
-      if (x && ext == x) return e.format;
+  if (by_extension) return by_extension->format;
   throw InputError("cannot tell the format of '" + path + "' from its extension" +
                    (ext.empty() ? "" : " '" + ext + "'") + ": supported: " + supported_formats() +
                    "; or give --format");

@@ -93,7 +93,8 @@ void orient_internal(Complex& c, int rank) {
   }
 }
 
-double component_volume(const Complex& c, const std::vector<std::uint32_t>& facets) {
+double component_volume(const Complex& c, const std::vector<std::uint32_t>& facets,
+                        double scale) {
   const int n = c.ambient_dim();
   const auto& p = c.positions();
   std::vector<std::uint32_t> verts;
@@ -104,13 +105,13 @@ double component_volume(const Complex& c, const std::vector<std::uint32_t>& face
   std::sort(verts.begin(), verts.end());
   verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
   Eigen::VectorXd centre = Eigen::VectorXd::Zero(n);
-  for (auto v : verts) centre += p.col(v);
+  for (auto v : verts) centre += scale * p.col(v);
   if (!verts.empty()) centre /= static_cast<double>(verts.size());
   Eigen::MatrixXd m(n, n);
   double total = 0.0;
   for (auto f : facets) {
     for_each_simplex(c, n - 1, f, [&](std::span<const std::uint32_t> v, int sign) {
-      for (int j = 0; j < n; ++j) m.col(j) = p.col(v[j]) - centre;
+      for (int j = 0; j < n; ++j) m.col(j) = scale * p.col(v[j]) - centre;
       total += sign * (n == 4 ? Eigen::Matrix4d(m).determinant()
                               : n == 3 ? Eigen::Matrix3d(m).determinant() : m.determinant());
     });
@@ -119,6 +120,62 @@ double component_volume(const Complex& c, const std::vector<std::uint32_t>& face
 }
 
 }  // namespace
+
+double orientation_work(const Complex& c) {
+  const int n = c.ambient_dim();
+  const int fr = std::min(c.top_rank(), n - 1);
+  if (fr < 2) return static_cast<double>(c.count(std::max(fr, 0)));
+  // w[k][i]: the simplices for_each_simplex cuts element i of rank k into (a fan of each face
+  // from its first vertex; a cone from the first vertex over the boundary elements that miss
+  // it), by dynamic programming over the ranks instead of walking the flags.
+  std::vector<double> below(c.count(2));
+  for (std::uint32_t f = 0; f < c.count(2); ++f)
+    below[f] = static_cast<double>(c.boundary(2).ids(f).size()) - 2.0;
+  // Sorted vertex sets of the rank-(k-1) elements, kept from rank 3 up (faces are checked on
+  // their edges, so a 4D model needs none).
+  std::vector<std::vector<std::uint32_t>> verts;
+  const auto face_has = [&](std::uint32_t f, std::uint32_t v) {
+    for (auto e : c.boundary(2).ids(f)) {
+      const auto ends = c.edge(e);
+      if (ends[0] == v || ends[1] == v) return true;
+    }
+    return false;
+  };
+  for (int k = 3; k <= fr; ++k) {
+    const Incidence& table = c.boundary(k);
+    std::vector<double> w(table.size(), 0.0);
+    std::vector<std::vector<std::uint32_t>> next(k < fr ? table.size() : 0);
+    for (std::uint32_t i = 0; i < table.size(); ++i) {
+      const std::uint32_t apex = c.first_vertex(k, i);
+      for (auto j : table.ids(i)) {
+        const bool has = k == 3 ? face_has(j, apex)
+                                : std::binary_search(verts[j].begin(), verts[j].end(), apex);
+        if (!has) w[i] += below[j];
+        if (k < fr) {
+          if (k == 3) {
+            for (auto e : c.boundary(2).ids(j)) {
+              const auto ends = c.edge(e);
+              next[i].push_back(ends[0]);
+              next[i].push_back(ends[1]);
+            }
+          } else {
+            next[i].insert(next[i].end(), verts[j].begin(), verts[j].end());
+          }
+        }
+      }
+      if (k < fr) {
+        std::sort(next[i].begin(), next[i].end());
+        next[i].erase(std::unique(next[i].begin(), next[i].end()), next[i].end());
+      }
+    }
+    below = std::move(w);
+    verts = std::move(next);
+  }
+  double total = 0.0;
+  for (double x : below) total += x;
+  // Each simplex costs an n x n determinant (and n of them for a facet normal).
+  return total * n * n * n / 64.0;
+}
 
 void orient_complex(Complex& c) {
   const int n = c.ambient_dim();
@@ -141,13 +198,16 @@ void orient_complex(Complex& c) {
         nf == 0 ? 0 : *std::max_element(component.begin(), component.end()) + 1;
     std::vector<std::vector<std::uint32_t>> members(ncomp);
     for (std::uint32_t f = 0; f < nf; ++f) members[component[f]].push_back(f);
+    // Signs and directions only: decided on exactly rescaled positions (position_scale), so
+    // that models in huge or tiny units orient like the same model near unit size.
+    const double scale = position_scale(c);
     for (const auto& group : members) {
-      if (component_volume(c, group) < 0.0)
+      if (component_volume(c, group, scale) < 0.0)
         for (auto f : group) c.flip(facet_rank, f);
     }
     Eigen::MatrixXd normals(n, nf);
     for (std::uint32_t f = 0; f < nf; ++f) {
-      Eigen::VectorXd a = facet_area_vector(c, f);
+      Eigen::VectorXd a = facet_area_vector(c, f, scale);
       const double len = a.norm();
       normals.col(f) = len > 0.0 ? Eigen::VectorXd(a / len) : Eigen::VectorXd::Zero(n);
     }
@@ -238,7 +298,17 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
   if (!soup.face_colors.empty()) c.colors_mut(2) = soup.face_colors;
   for (std::size_t j = 0; j < soup.higher_colors.size(); ++j)
     if (!soup.higher_colors[j].empty()) c.colors_mut(static_cast<int>(j) + 3) = soup.higher_colors[j];
-  if (options.orient) orient_complex(c);
+  if (options.orient) {
+    // One estimate for every model, however it was made (a family, an operator, a product, a
+    // file): the work of orienting it, and of every later volume and normal, before doing it.
+    const double work = orientation_work(c);
+    if (work > max_orientation_work)
+      throw InputError("the model is too large: its facets cut into the equivalent of " +
+                       std::to_string(static_cast<long long>(std::min(work, 9e18))) +
+                       " 4D simplices, cw4d handles at most " +
+                       std::to_string(static_cast<long long>(max_orientation_work)));
+    orient_complex(c);
+  }
   return c;
 }
 

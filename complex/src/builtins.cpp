@@ -242,16 +242,19 @@ Complex make_product(const Complex& pc, const Complex& qc) {
   const int p = P.dim(), q = Q.dim(), n = p + q;
   if (pc.count(0) == 0 || qc.count(0) == 0) throw InputError("product of an empty complex");
   // The product has (sum_i f_i(P)) * (sum_j f_j(Q)) elements (pairs, the solids included):
-  // refuse before allocating when that would exhaust memory (a 10-cube times a 10-cube).
+  // refuse before building what could not be built and oriented in seconds (a 10-cube times a
+  // 10-cube, polygon:3500 times polygon:3500; build_complex's orientation budget would refuse
+  // them too, but only after building them).
   double pairs = 1.0;
   for (const Augmented* x : {&P, &Q}) {
     double total = 0.0;
     for (int k = 0; k <= x->dim(); ++k) total += static_cast<double>(x->count(k));
     pairs *= total;
   }
-  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 5e7 || pairs > 5e7)
-    throw InputError("product is too large (" + std::to_string(static_cast<long long>(pairs)) +
-                     " elements, at most 50000000)");
+  if (static_cast<double>(pc.count(0)) * static_cast<double>(qc.count(0)) > 2e6 || pairs > 2e6)
+    throw InputError("the product is too large (" +
+                     std::to_string(static_cast<long long>(std::min(pairs, 9e18))) +
+                     " elements, at most 2000000)");
   // offset[i][j]: first id of the block of pairs (rank-i element of P, rank-j element of Q).
   std::vector<std::vector<std::uint32_t>> offset(p + 1, std::vector<std::uint32_t>(q + 1, 0));
   std::vector<std::uint32_t> rank_count(n + 1, 0);
@@ -388,6 +391,24 @@ std::string lower(std::string_view s) {
   return out;
 }
 
+// Where the arguments of product:A*B split: the first '*' after which A is complete, i.e. A
+// holds as many '*' as it has product: heads of its own (so product:product:P*Q*R is
+// (P*Q)*R and product:P*product:Q*R is P*(Q*R)).
+std::size_t product_split(std::string_view args) {
+  std::size_t open = 0;  // product: heads seen in the left operand
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == '*') {
+      if (open == 0) return i;
+      --open;
+    } else if ((i == 0 || args[i - 1] == ':' || args[i - 1] == '*') && args.size() - i >= 8) {
+      std::string head(args.substr(i, 8));
+      for (auto& ch : head) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (head == "product:") ++open;
+    }
+  }
+  return std::string_view::npos;
+}
+
 std::string head_of(std::string_view lowered) {
   const auto colon = lowered.find(':');
   return colon == std::string_view::npos ? std::string() : std::string(lowered.substr(0, colon));
@@ -405,6 +426,7 @@ ModelFamily named_family(std::vector<std::string> names, std::string description
   };
   f.make = [make = std::move(make)](const std::string&) { return make(); };
   f.exact = true;
+  f.names = std::move(names);
   return f;
 }
 
@@ -414,6 +436,7 @@ ModelFamily parametric_family(
   ModelFamily f;
   f.usage = std::move(usage);
   f.description = std::move(description);
+  f.names = {head + ":"};
   f.matches = [head](std::string_view lowered) { return head_of(lowered) == head; };
   f.make = [make = std::move(make)](const std::string& spec) {
     return make(spec, std::string_view(spec).substr(spec.find(':') + 1));
@@ -492,7 +515,7 @@ std::vector<ModelFamily> default_families() {
       "Cartesian product of two closed models, e.g. product:polygon:5*polygon:8 (a duoprism) or "
       "product:sphere:1,8*polygon:6 (5D); the dimensions add",
       [](const std::string& spec, std::string_view a) {
-        const auto star = a.find('*');
+        const auto star = product_split(a);
         if (star == std::string_view::npos || star == 0 || star + 1 == a.size())
           throw InputError("model spec '" + spec + "': expected product:MODEL*MODEL");
         return make_product(load_model(std::string(a.substr(0, star))),
@@ -639,13 +662,75 @@ std::optional<std::string> model_family(std::string_view spec) {
 }
 
 Complex load_model(const std::string& spec) {
+  // Operators (prism:, dual:, product: ...) load their operands through load_model: bound the
+  // nesting, so that a spec of 20000 prism: heads is refused instead of overflowing the stack
+  // (each level also holds a copy of the rest of the spec, so memory stays O(depth * length)).
+  static thread_local int depth = 0;
+  struct Nest {
+    Nest() { ++depth; }
+    ~Nest() { --depth; }
+  } nest;
+  if (depth > max_model_nesting)
+    throw InputError("model spec '" + (spec.size() > 60 ? spec.substr(0, 60) + "..." : spec) +
+                     "' nests operators more than " + std::to_string(max_model_nesting) +
+                     " deep");
   if (const ModelFamily* family = find_family(spec)) return family->make(spec);
   std::error_code ec;
   if (std::filesystem::exists(spec, ec) || spec.find('/') != std::string::npos ||
       spec.find('.') != std::string::npos)
     return read_off_file(spec);
-  throw InputError("unknown model '" + spec +
-                   "': not a built-in (run 'cw4d list') and not a file name");
+  std::vector<std::string> names;
+  for (const ModelFamily& f : registry()) names.insert(names.end(), f.names.begin(), f.names.end());
+  // A head typed with its arguments ("prsim:tesseract") is compared as a head.
+  const std::size_t colon = spec.find(':');
+  const std::string guess =
+      closest_name(colon == std::string::npos ? spec : spec.substr(0, colon + 1), names);
+  throw InputError("unknown model '" + spec + "': not a built-in (run 'cw4d list') and not a file name" +
+                   (guess.empty() ? std::string()
+                                  : "; did you mean '" +
+                                        (colon == std::string::npos ? guess
+                                                                    : guess + spec.substr(colon + 1)) +
+                                        "'?"));
+}
+
+std::string closest_name(std::string_view word, const std::vector<std::string>& candidates) {
+  const auto fold = [](std::string_view w) {
+    std::string out;
+    for (char ch : w)
+      if (ch != '-' && ch != '_' && ch != ' ')
+        out += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return out;
+  };
+  const std::string a = fold(word);
+  if (a.empty() || a.size() > 64) return {};
+  std::string best;
+  std::size_t best_distance = a.size() / 3 + 2;  // more edits than a third: no suggestion
+  std::vector<std::size_t> row, prev, prev2;
+  for (const std::string& name : candidates) {
+    const std::string b = fold(name);
+    // Edit distance with adjacent transpositions (Damerau, "A technique for computer
+    // detection and correction of spelling errors", 1964), by the dynamic programme of Wagner
+    // and Fischer (1974), three rows at a time.
+    prev2.assign(b.size() + 1, 0);
+    prev.resize(b.size() + 1);
+    row.resize(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        row[j] = std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          row[j] = std::min(row[j], prev2[j - 2] + 1);
+      }
+      std::swap(prev2, prev);
+      std::swap(prev, row);
+    }
+    if (prev[b.size()] < best_distance) {
+      best_distance = prev[b.size()];
+      best = name;
+    }
+  }
+  return best;
 }
 
 }  // namespace cw4d

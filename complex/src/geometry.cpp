@@ -16,8 +16,41 @@ bool contains_vertex(const Complex& c, int rank, std::uint32_t i, std::uint32_t 
     const auto e = c.edge(i);
     return e[0] == v || e[1] == v;
   }
-  for (auto id : c.boundary(rank).ids(i))
-    if (contains_vertex(c, rank - 1, id, v)) return true;
+  const auto face_has = [&](std::uint32_t f) {
+    for (auto id : c.boundary(2).ids(f)) {
+      const auto e = c.edge(id);
+      if (e[0] == v || e[1] == v) return true;
+    }
+    return false;
+  };
+  if (rank == 2) return face_has(i);
+  // Higher ranks: a search down to the faces that visits each element once. Recursing into
+  // every boundary element instead would reach each face once per chain to it, exponentially
+  // often in the rank (a 9-cube has 9! 2^9 flags but 512 vertices).
+  thread_local std::vector<std::vector<std::uint32_t>> seen;  // generation stamps per rank
+  thread_local std::uint32_t generation = 0;
+  thread_local std::vector<std::pair<int, std::uint32_t>> stack;
+  if (static_cast<int>(seen.size()) <= rank) seen.resize(static_cast<std::size_t>(rank) + 1);
+  if (++generation == 0) {
+    for (auto& s : seen) std::fill(s.begin(), s.end(), 0u);
+    generation = 1;
+  }
+  stack.assign(1, {rank, i});
+  while (!stack.empty()) {
+    const auto [k, x] = stack.back();
+    stack.pop_back();
+    for (auto id : c.boundary(k).ids(x)) {
+      if (k - 1 == 2) {
+        if (face_has(id)) return true;
+        continue;
+      }
+      auto& stamps = seen[static_cast<std::size_t>(k - 1)];
+      if (stamps.size() < c.count(k - 1)) stamps.resize(c.count(k - 1), 0u);
+      if (stamps[id] == generation) continue;
+      stamps[id] = generation;
+      stack.push_back({k - 1, id});
+    }
+  }
   return false;
 }
 
@@ -107,34 +140,46 @@ Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u) {
   return x;
 }
 
-Eigen::VectorXd facet_area_vector(const Complex& complex, std::uint32_t facet) {
+double position_scale(const Complex& complex) {
+  const auto& p = complex.positions();
+  double big = 0.0;
+  for (Eigen::Index i = 0; i < p.size(); ++i)
+    if (std::isfinite(p.data()[i])) big = std::max(big, std::abs(p.data()[i]));
+  if (big == 0.0 || (big >= 0x1p-60 && big <= 0x1p60)) return 1.0;
+  return std::ldexp(1.0, std::min(-std::ilogb(big), 1000));  // 2^1000: finite
+}
+
+Eigen::VectorXd facet_area_vector(const Complex& complex, std::uint32_t facet, double scale) {
   const int n = complex.ambient_dim();
   const int k = n - 1;
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd u(n, k);
   const auto& p = complex.positions();
   for_each_simplex(complex, k, facet, [&](std::span<const std::uint32_t> v, int sign) {
-    for (int j = 0; j < k; ++j) u.col(j) = p.col(v[j + 1]) - p.col(v[0]);
+    for (int j = 0; j < k; ++j) u.col(j) = scale * p.col(v[j + 1]) - scale * p.col(v[0]);
     sum += static_cast<double>(sign) * generalized_cross(u);
   });
   const double parity = (k % 2 == 0) ? 1.0 : -1.0;
   return parity * sum / factorial(k);
 }
 
-double signed_volume(const Complex& complex) {
+double signed_volume(const Complex& complex, double scale, double* magnitude) {
   const int n = complex.ambient_dim();
   const int k = n - 1;
   if (complex.count(k) == 0 || k < 1) return 0.0;
   const auto& p = complex.positions();
-  const Eigen::VectorXd c = p.rowwise().mean();
+  const Eigen::VectorXd c = (scale * p).rowwise().mean();
   Eigen::MatrixXd m(n, n);
-  double total = 0.0;
+  double total = 0.0, absolute = 0.0;
   for (std::uint32_t f = 0; f < complex.count(k); ++f) {
     for_each_simplex(complex, k, f, [&](std::span<const std::uint32_t> v, int sign) {
-      for (int j = 0; j < n; ++j) m.col(j) = p.col(v[j]) - c;
-      total += sign * det(m);
+      for (int j = 0; j < n; ++j) m.col(j) = scale * p.col(v[j]) - c;
+      const double d = det(m);
+      total += sign * d;
+      absolute += std::abs(d);
     });
   }
+  if (magnitude) *magnitude = absolute / factorial(n);
   return total / factorial(n);
 }
 

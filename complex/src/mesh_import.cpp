@@ -4,16 +4,21 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/detail/mute_openmesh.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
 
@@ -48,10 +53,84 @@ bool is_planar(const Eigen::MatrixXd& pos, const std::vector<std::uint32_t>& cyc
   return true;
 }
 
+// OpenMesh reserves what a file's header announces before reading the elements. Refuse the
+// counts the file is too short to hold (each vertex takes at least 6 bytes, "0 0 0\n" or
+// more in binary; each face at least 1), so that a 100-byte file announcing 2e9 vertices is a
+// parse error, not an exhausted memory.
+void check_announced_counts(const std::string& path, std::uintmax_t size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (head.substr(0, 3) == "\xEF\xBB\xBF") head.erase(0, 3);
+  double vertices = 0, faces = 0;
+  std::istringstream words(head);
+  std::string word;
+  const auto lower = [](std::string w) {
+    for (auto& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return w;
+  };
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const bool is_stl = ext == ".stl";
+  if (!(words >> word)) return;
+  const std::string first = lower(word);
+  if (first.size() >= 3 && first.substr(first.size() - 3) == "off") {
+    // [ST][C][N][4][n]OFF [BINARY], comments, then "V F E".
+    std::vector<double> counts;
+    while (counts.size() < 2 && words >> word) {
+      if (word[0] == '#') {
+        std::getline(words, word);
+        continue;
+      }
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (*end != '\0') {
+        if (counts.empty() && lower(word) == "binary") continue;
+        return;  // OpenMesh will report it
+      }
+      counts.push_back(v);
+    }
+    if (counts.size() < 2) return;
+    vertices = counts[0];
+    faces = counts[1];
+  } else if (first == "ply") {
+    std::string line;
+    std::istringstream lines(head);
+    while (std::getline(lines, line) && lower(line).rfind("end_header", 0) != 0) {
+      std::istringstream f(line);
+      std::string element, kind;
+      double n = 0;
+      if (f >> element >> kind >> n && element == "element")
+        (kind == "vertex" ? vertices : faces) += n;
+    }
+  } else if (is_stl && first != "solid" && size >= 84) {
+    // Binary STL: an 80-byte header, a 32-bit triangle count, 50 bytes per triangle.
+    const auto* b = reinterpret_cast<const unsigned char*>(head.data() + 80);
+    if (head.size() >= 84)
+      faces = static_cast<double>(static_cast<std::uint32_t>(b[0]) | std::uint32_t{b[1]} << 8 |
+                                  std::uint32_t{b[2]} << 16 | std::uint32_t{b[3]} << 24);
+    if (faces * 50 + 84 > static_cast<double>(size))
+      throw ParseError(path, 0,
+                       "announces " + std::to_string(static_cast<long long>(faces)) +
+                           " triangles but the file has only " + std::to_string(size) + " bytes");
+    return;
+  }
+  if (vertices * 6 + faces > static_cast<double>(size) || vertices < 0 || faces < 0)
+    throw ParseError(path, 0,
+                     "announces " +
+                         std::to_string(static_cast<long long>(std::clamp(vertices, -9e18, 9e18))) +
+                         " vertices and " +
+                         std::to_string(static_cast<long long>(std::clamp(faces, -9e18, 9e18))) +
+                         " faces but the file has only " + std::to_string(size) + " bytes");
+}
+
 }  // namespace
 
 Complex read_polyhedron(const std::string& path) {
-  if (!std::ifstream(path, std::ios::binary)) throw IoError(path + ": cannot open file");
+  // Only regular files of bounded size reach OpenMesh (a FIFO would block it forever).
+  const std::uintmax_t size = check_input_file(path);
+  check_announced_counts(path, size);
   PolyMesh mesh;
   bool read_ok = false;
   {

@@ -31,31 +31,79 @@ struct Line {
   std::vector<std::string_view> tokens;
 };
 
-// Splits the text into non-empty lines of tokens, comments removed.
-std::vector<Line> tokenize(std::string_view text) {
-  std::vector<Line> lines;
-  std::size_t number = 0, pos = 0;
-  while (pos <= text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    ++number;
-    std::string_view line = text.substr(pos, end - pos);
+// Reads the text line by line: each call of next() splits one more non-empty line (comments
+// removed) into tokens that view the text. Nothing is held per line of the file, so memory
+// stays that of the text plus what the parser keeps.
+class LineReader {
+ public:
+  explicit LineReader(std::string_view text) : text_(text) {
+    // A UTF-8 byte-order mark (written by some Windows editors) is not part of the header.
+    if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
+  }
+
+  // The next non-empty line, or false at the end of the text.
+  bool next(Line& out) {
+    while (pos_ <= text_.size() && !done_) {
+      std::size_t end = text_.find('\n', pos_);
+      if (end == std::string_view::npos) end = text_.size();
+      ++number_;
+      std::string_view line = text_.substr(pos_, end - pos_);
+      if (end == text_.size()) done_ = true;
+      pos_ = end + 1;
+      out.number = number_;
+      out.tokens.clear();
+      split(line, &out.tokens);
+      if (!out.tokens.empty()) return true;
+    }
+    return false;
+  }
+
+  // The number of non-empty lines after the current one, counted without storing them, and
+  // the number the line after the last of them would have.
+  std::size_t count_remaining(std::size_t* end_line) const {
+    LineReader copy = *this;
+    std::size_t n = 0, last = number_;
+    while (copy.pos_ <= copy.text_.size() && !copy.done_) {
+      std::size_t end = copy.text_.find('\n', copy.pos_);
+      if (end == std::string_view::npos) end = copy.text_.size();
+      ++copy.number_;
+      if (end == copy.text_.size()) copy.done_ = true;
+      if (!blank(copy.text_.substr(copy.pos_, end - copy.pos_))) {
+        ++n;
+        last = copy.number_;
+      }
+      copy.pos_ = end + 1;
+    }
+    if (end_line) *end_line = last + 1;
+    return n;
+  }
+
+ private:
+  static std::string_view strip(std::string_view line) {
     if (auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    Line out{number, {}};
+    return line;
+  }
+  static bool blank(std::string_view line) {
+    for (char ch : strip(line))
+      if (!std::isspace(static_cast<unsigned char>(ch))) return false;
+    return true;
+  }
+  static void split(std::string_view line, std::vector<std::string_view>* tokens) {
+    line = strip(line);
     std::size_t i = 0;
     while (i < line.size()) {
       while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
       std::size_t j = i;
       while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-      if (j > i) out.tokens.push_back(line.substr(i, j - i));
+      if (j > i) tokens->push_back(line.substr(i, j - i));
       i = j;
     }
-    if (!out.tokens.empty()) lines.push_back(std::move(out));
-    if (end == text.size()) break;
-    pos = end + 1;
   }
-  return lines;
-}
+
+  std::string_view text_;
+  std::size_t pos_ = 0, number_ = 0;
+  bool done_ = false;
+};
 
 // A token as shown in a message: quoted, with control and non-ASCII bytes (which may not be
 // UTF-8) escaped as \xNN, and cut after 40 bytes, so that every message is one printable line.
@@ -77,20 +125,24 @@ std::string show(std::string_view tok) {
 
 class Parser {
  public:
-  Parser(std::string name, std::vector<Line> lines) : name_(std::move(name)), lines_(std::move(lines)) {}
+  Parser(std::string name, std::string_view text) : name_(std::move(name)), reader_(text) {
+    have_ = reader_.next(ahead_);
+  }
 
   [[noreturn]] void fail(std::size_t line, const std::string& message) const {
     throw ParseError(name_, line, message);
   }
 
-  std::size_t eof_line() const { return lines_.empty() ? 1 : lines_.back().number + 1; }
-
+  // The next non-empty line; valid until the following call.
   const Line& next(const std::string& expected) {
-    if (cursor_ >= lines_.size()) fail(eof_line(), "unexpected end of file: expected " + expected);
-    return lines_[cursor_++];
+    if (!have_) fail(eof_line_, "unexpected end of file: expected " + expected);
+    std::swap(current_, ahead_);
+    have_ = reader_.next(ahead_);
+    if (!have_) eof_line_ = current_.number + 1;
+    return current_;
   }
-  bool at_end() const { return cursor_ >= lines_.size(); }
-  std::size_t remaining() const { return lines_.size() - cursor_; }
+  bool at_end() const { return !have_; }
+  std::size_t remaining() const { return have_ ? 1 + reader_.count_remaining(nullptr) : 0; }
 
   std::uint64_t parse_count(std::string_view tok, std::size_t line, const char* what) const {
     std::uint64_t v = 0;
@@ -173,6 +225,13 @@ class Parser {
       auto [ptr, ec] = std::from_chars(h.data(), h.data() + h.size() - 3, v);
       if (ec == std::errc() && ptr == h.data() + h.size() - 3) dim = v;
     }
+    // Miratope writes points, segments and polygons as 0OFF, 1OFF and 2OFF: named as such, so
+    // that the refusal does not read like a corrupt file.
+    if (h == "0OFF" || h == "1OFF" || h == "2OFF")
+      fail(head.number, "header " + show(h) + " is Miratope's file of a " +
+                            (h[0] == '0' ? "point" : h[0] == '1' ? "segment" : "polygon") +
+                            ", which cw4d does not read (it reads OFF and 4OFF to " +
+                            std::to_string(max_off_dim) + "OFF; polygon:P builds regular polygons)");
     if (dim < 3 || dim > max_off_dim)
       fail(head.number, "header " + show(h) + " is not OFF, 4OFF or nOFF with n = 3.." +
                             std::to_string(max_off_dim));
@@ -250,7 +309,7 @@ class Parser {
       }
       soup.higher_colors.push_back(any_color ? colors : std::vector<Rgba>{});
     }
-    if (!at_end()) fail(lines_[cursor_].number, "unexpected data after the last element");
+    if (!at_end()) fail(ahead_.number, "unexpected data after the last element");
     try {
       return build_complex(soup);
     } catch (const TopologyError& e) {
@@ -277,8 +336,10 @@ class Parser {
   }
 
   std::string name_;
-  std::vector<Line> lines_;
-  std::size_t cursor_ = 0;
+  LineReader reader_;
+  Line current_, ahead_;
+  bool have_ = false;
+  std::size_t eof_line_ = 1;
   OffLines where_;
 };
 
@@ -293,7 +354,7 @@ void append_number(std::string& out, double v) {
 Complex read_off(std::istream& in, const std::string& name, OffLines* lines) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw ParseError(name, 0, "read error");
-  Parser parser(name, tokenize(text));
+  Parser parser(name, text);
   Complex c = parser.parse();
   if (lines) *lines = parser.where();
   return c;
@@ -301,7 +362,7 @@ Complex read_off(std::istream& in, const std::string& name, OffLines* lines) {
 
 Complex read_off_file(const std::string& path, OffLines* lines) {
   const std::string text = read_input_file(path);  // the tokens are views into it
-  Parser parser(path, tokenize(text));
+  Parser parser(path, text);
   Complex c = parser.parse();
   if (lines) *lines = parser.where();
   return c;

@@ -193,6 +193,12 @@ class Builder final : public nlohmann::json_sax<json> {
   // A container's children are added only while it is the innermost one, so the pointer to it
   // stays valid until it is closed.
   bool open(json container) {
+    // A scene is a few levels deep; each level holds its path (of length ~ depth), so a
+    // document nested 10^5 deep would take gigabytes before any check could reject it.
+    if (stack_.size() >= max_scene_nesting)
+      throw ParseError(doc_.name, line_now(),
+                       "arrays and objects nest more than " + std::to_string(max_scene_nesting) +
+                           " deep (a scene needs a few levels)");
     json* slot = put(std::move(container));
     stack_.push_back(slot);
     paths_.push_back(last_path_);

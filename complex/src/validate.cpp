@@ -181,9 +181,19 @@ struct Checker {
       i = j;
     }
     if (!full() && report.issues.empty()) {
-      const double vol = signed_volume(c);
-      if (!(vol > 0.0)) add(fr, 0, "facets are not oriented outward (signed volume " +
-                                       std::to_string(vol) + ")");
+      // The sign on exactly rescaled positions: coordinates of 1e200 or 1e-200 would
+      // overflow or underflow the volume.
+      const double scale = position_scale(c);
+      // A volume within rounding of zero (a hemi-polyhedron, whose faces pass through its
+      // centre, encloses none) is zero, whatever the rounding of this copy gives.
+      double magnitude = 0.0;
+      double vol = signed_volume(c, scale, &magnitude);
+      if (std::abs(vol) <= 1e-12 * magnitude) vol = 0.0;
+      if (!(vol > 0.0))
+        add(fr, 0,
+            vol == 0.0 ? std::string("encloses no volume (all of it lies in a hyperplane)")
+                       : "facets are not oriented outward (signed volume " +
+                             std::to_string(vol / std::pow(scale, n)) + ")");
     }
   }
 
@@ -192,8 +202,9 @@ struct Checker {
     const int fr = n - 1;
     if (fr < 2) return;
     const auto& p = c.positions();
+    const double scale = position_scale(c);
     for (std::uint32_t f = 0; f < c.count(fr) && !full(); ++f) {
-      Eigen::VectorXd a = facet_area_vector(c, f);
+      Eigen::VectorXd a = facet_area_vector(c, f, scale);
       if (!(a.norm() > 0.0)) {
         add(fr, f, "degenerate (zero volume)");
         continue;

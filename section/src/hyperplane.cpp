@@ -28,10 +28,14 @@ double plane_value(const Eigen::VectorXd& n, double d, const double* x) {
 
 Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
   if (n.size() < 1 || !n.allFinite()) throw InputError("hyperplane normal is not finite");
-  const double len = n.norm();
-  if (!(len > 0.0)) throw InputError("hyperplane normal is zero");
+  const double big = n.cwiseAbs().maxCoeff();
+  if (!(big > 0.0)) throw InputError("hyperplane normal is zero");
   if (!std::isfinite(d)) throw InputError("hyperplane offset is not finite");
-  return Hyperplane{n / len, d};
+  // Scaled by a power of two first (exact), so that the length of normals such as
+  // (1e308, 1e308, 0, 0) or (0, 0, 0, 1e-320) neither overflows nor underflows.
+  const int e = std::ilogb(big);
+  const Eigen::VectorXd m = n.unaryExpr([e](double x) { return std::scalbn(x, -e); });
+  return Hyperplane{m / m.norm(), d};
 }
 
 namespace {

@@ -345,17 +345,23 @@ Ids polygon_cycle(const Eigen::MatrixXd& p, const Ids& ids, double tol) {
 
 }  // namespace
 
-Complex convex_hull(const Eigen::MatrixXd& points) {
-  const int dim = static_cast<int>(points.rows());
+Complex convex_hull(const Eigen::MatrixXd& input) {
+  const int dim = static_cast<int>(input.rows());
   if (dim < 3 || dim > 4)
     throw InputError("convex_hull: points must have 3 or 4 coordinates, got " +
                      std::to_string(dim));
-  if (points.cols() < dim + 1)
+  if (input.cols() < dim + 1)
     throw InputError("convex_hull: " + std::to_string(dim) + "D hull needs at least " +
-                     std::to_string(dim + 1) + " points, got " + std::to_string(points.cols()));
-  if (points.cols() > std::numeric_limits<std::int32_t>::max())
+                     std::to_string(dim + 1) + " points, got " + std::to_string(input.cols()));
+  if (input.cols() > std::numeric_limits<std::int32_t>::max())
     throw InputError("convex_hull: too many points");
-  if (!points.allFinite()) throw InputError("convex_hull: a coordinate is not finite");
+  if (!input.allFinite()) throw InputError("convex_hull: a coordinate is not finite");
+  // Every decision below is made on the points times a power of two that brings them near unit
+  // size (exact), so the hull of points in units of 1e200 or 1e-200 is that of the same points
+  // near 1 (squares of 1e200 would overflow, of 1e-200 underflow to 0).
+  const double big = input.cwiseAbs().maxCoeff();
+  if (big == 0.0) throw InputError("convex_hull: all points coincide (at the origin)");
+  const Eigen::MatrixXd points = input * std::ldexp(1.0, std::min(-std::ilogb(big), 1000));
 
   const Eigen::VectorXd centre = points.rowwise().mean();
   const double radius = (points.colwise() - centre).colwise().norm().maxCoeff();
@@ -372,7 +378,8 @@ Complex convex_hull(const Eigen::MatrixXd& points) {
     double width = 0.0;
     for (std::uint32_t id : ids)
       width = std::max(width, std::abs(eig.eigenvectors().col(0).dot(points.col(id) - centre)));
-    if (radius == 0.0 || static_cast<int>(ids.size()) < dim + 1 || width <= tol)
+    if (radius == 0.0 || ids.size() == 1) throw InputError("convex_hull: all points coincide");
+    if (static_cast<int>(ids.size()) < dim + 1 || width <= tol)
       throw InputError("convex_hull: the points lie in a lower-dimensional flat");
   }
 
@@ -429,7 +436,7 @@ Complex convex_hull(const Eigen::MatrixXd& points) {
   soup.ambient_dim = dim;
   soup.positions.resize(dim, n_vertices);
   for (std::uint32_t id = 0; id < new_id.size(); ++id)
-    if (new_id[id] != kNone) soup.positions.col(new_id[id]) = points.col(id);
+    if (new_id[id] != kNone) soup.positions.col(new_id[id]) = input.col(id);
   for (const Ids& face : level[2]) {
     Ids cycle = polygon_cycle(points, face, tol);
     for (auto& v : cycle) v = new_id[v];

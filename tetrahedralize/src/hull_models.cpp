@@ -18,6 +18,7 @@
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 
 namespace cw4d {
@@ -153,8 +154,9 @@ Complex make_glome_spec(const std::string& spec, std::string_view args) {
 }  // namespace
 
 Eigen::MatrixXd read_point_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ParseError(path, 0, "cannot open point file");
+  // Only regular files of bounded size (a FIFO or /dev/zero would hang or fill the memory).
+  const std::string text = read_input_file(path);
+  std::istringstream in(text);
   std::vector<double> coords;
   int dim = 0;
   std::size_t line_no = 0;
@@ -253,7 +255,17 @@ void register_hull_models() {
       "convex hull of the points in FILE (one point per line, 3 or 4 coordinates separated by "
       "spaces or commas, # comments)",
       [](const std::string&, std::string_view path) {
-        return convex_hull(read_point_file(std::string(path)));
+        const std::string file(path);
+        const Eigen::MatrixXd points = read_point_file(file);
+        try {
+          return convex_hull(points);
+        } catch (const InputError& e) {
+          // The points parse but have no full-dimensional hull: an input error (exit 1),
+          // naming the file they came from.
+          std::string reason = e.what();
+          if (reason.rfind("convex_hull: ", 0) == 0) reason.erase(0, 13);
+          throw InputError(file + ": no convex hull: " + reason);
+        }
       }));
   register_model_family(named_family({"snub cube", "snub-cube", "snic", "wythoff:s4s3s"},
                                      "snub cube s4s3s: 32 triangles and 6 squares, edge 2",

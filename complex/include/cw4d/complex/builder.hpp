@@ -31,10 +31,20 @@ struct BuildOptions {
   bool orient = true;
 };
 
+/// The work of orienting (and later measuring) a complex, in units of one simplex of a 4D
+/// facet decomposition: the number of simplices for_each_simplex cuts the facets into, times
+/// (n / 4)^3 for a complex in R^n. Counted without walking them (linear in the incidences).
+double orientation_work(const Complex& complex);
+
+/// What build_complex orients at most (about a few seconds of work).
+inline constexpr double max_orientation_work = 3e6;
+
 /// Builds a complex from a soup. Edges are the distinct vertex pairs of the face cycles (and the
 /// explicit edges), numbered in order of first appearance, each stored as (min id, max id).
 /// Orientation never throws: where the structure is not closed or not orientable the signs stay
 /// as far as they could be solved, and validate() reports the problem.
+/// \throw InputError when orientation_work exceeds max_orientation_work (a model too large to
+///        finish in seconds), before orienting.
 /// \throw TopologyError when an id is out of range, a face has fewer than 3 vertices or repeats
 ///        a vertex, or an element lists the same boundary element twice.
 Complex build_complex(const ComplexSoup& soup, const BuildOptions& options = {});

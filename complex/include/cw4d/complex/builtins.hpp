@@ -49,6 +49,8 @@ struct ModelFamily {
   /// Exact names win over patterns: "wythoff:s3s4o3o" (the snub 24-cell) is tried before the
   /// "wythoff:DIAGRAM" family.
   bool exact = false;
+  /// The names a user may type (aliases, or "head:"), for "did you mean" suggestions.
+  std::vector<std::string> names;
 };
 /// A family of one name with aliases (lower case); `names.front()` is its usage.
 ModelFamily named_family(std::vector<std::string> names, std::string description,
@@ -72,8 +74,17 @@ std::optional<std::string> model_family(std::string_view spec);
 /// True when spec names a built-in ("5-cell", "cube:5", ...), false when it should be a path.
 bool is_builtin_spec(std::string_view spec);
 
-/// Builds the model named by a spec: a built-in, or a path to a .4off / .off file.
-/// \throw InputError for an unknown or malformed built-in spec; ParseError / IoError for files.
+/// The candidate closest to `word` (ignoring case, '-', '_' and spaces; at most a third of the
+/// letters edited), or "" when none is close. For "did you mean" messages.
+std::string closest_name(std::string_view word, const std::vector<std::string>& candidates);
+
+/// How deep operators may nest in a spec (prism:dual:prism:... counts 3).
+inline constexpr int max_model_nesting = 32;
+
+/// Builds the model named by a spec: a built-in, or a path to a .4off / .off file. Operators
+/// nest at most max_model_nesting deep.
+/// \throw InputError for an unknown or malformed built-in spec (or one nested too deep);
+///        ParseError / IoError for files.
 Complex load_model(const std::string& spec);
 
 }  // namespace cw4d

@@ -14,8 +14,9 @@ namespace cw4d {
 /// merged (STL has no shared vertices, and OpenMesh splits faces it cannot attach), and vertices
 /// in no face are dropped. Coordinates pass through OpenMesh's readers, most of which read
 /// single precision. Silences OpenMesh's own error stream while reading (not thread-safe).
-/// \throw IoError when the file cannot be opened; ParseError (FILE:0) when OpenMesh cannot read
-///        it or the faces do not bound a closed, valid polyhedron (open mesh, three faces on one
+/// \throw ParseError (FILE:0) when the file is missing, not a regular file, larger than
+///        max_input_file_bytes, announces more elements than its size can hold, OpenMesh cannot
+///        read it, or the faces do not bound a closed, valid polyhedron (open mesh, three faces on one
 ///        edge, ...).
 Complex read_polyhedron(const std::string& path);
 

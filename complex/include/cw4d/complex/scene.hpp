@@ -61,6 +61,9 @@ struct Scene {
   int dim() const { return objects.empty() ? 0 : objects.front().complex->ambient_dim(); }
 };
 
+/// How deep arrays and objects may nest in a scene document (a scene uses 4 levels).
+inline constexpr std::size_t max_scene_nesting = 64;
+
 /// Reads a scene from JSON text. `name` is used in error messages ("name:line: ..."); relative
 /// model paths are resolved against `base_directory` (the working directory when empty).
 /// \throw ParseError naming name:line for malformed JSON, unknown keys, wrong types, bad colors,
