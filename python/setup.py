@@ -4,7 +4,7 @@ packages it with cw4d/*.py. Driven by pip (PEP 517, setuptools backend):
     pip install --no-build-isolation ./python
 
 CMake configures a Release build of the libraries and the module for the interpreter running
-pip (CW4D_BUILD_PYTHON=ON, no tests, benchmarks or CLI) in the setuptools build directory and
+pip (CW4D_BUILD_PYTHON=ON, no tests, benchmarks or CLI) in build-pip/ of the checkout and
 builds only the target cw4d_python; ccache (when installed) reuses what an earlier build of the
 same checkout compiled. CW4D_JOBS sets the parallel jobs (default 2)."""
 
@@ -28,7 +28,9 @@ class CMakeExtension(Extension):
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
-        build_dir = pathlib.Path(self.build_temp).resolve() / "cmake"
+        # A build directory beside build/ (same depth): ccache, keyed by paths relative to the
+        # checkout, then reuses what ./setup.sh compiled.
+        build_dir = ROOT / "build-pip"
         build_dir.mkdir(parents=True, exist_ok=True)
         env = dict(os.environ)
         env.setdefault("CCACHE_BASEDIR", str(ROOT))
