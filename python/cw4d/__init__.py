@@ -24,6 +24,7 @@ from ._cw4d import (
     ParseError,
     Scene,
     SceneObject,
+    SceneSlicer,
     Section,
     SliceModel,
     Slicer,

@@ -10,6 +10,7 @@ from ._cw4d import (
     ParseError as ParseError,
     Scene as Scene,
     SceneObject as SceneObject,
+    SceneSlicer as SceneSlicer,
     Section as Section,
     SliceModel as SliceModel,
     Slicer as Slicer,

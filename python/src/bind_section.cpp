@@ -395,6 +395,42 @@ void bind_section(py::module_& m) {
         return "<cw4d.Scene of " + std::to_string(s.objects.size()) + " objects in R^" +
                std::to_string(s.dim()) + ">";
       });
+  py::class_<SceneSlicer>(
+      m, "SceneSlicer",
+      "A Scene compiled for repeated slicing (one SliceModel per distinct model, each "
+      "object's placement copied, bounding-sphere culling). Keeps the Scene alive. Not for "
+      "two threads at once.")
+      .def(py::init([](const Scene& scene, bool clustered) {
+             py::gil_scoped_release nogil;
+             return std::make_unique<SceneSlicer>(
+                 scene, clustered ? SliceModelOptions{} : SliceModelOptions::unclustered());
+           }),
+           py::arg("scene"), py::arg("clustered") = true, py::keep_alive<1, 2>())
+      .def("__len__", &SceneSlicer::size)
+      .def(
+          "slice",
+          [](SceneSlicer& s, py::object normal, double offset, unsigned threads, bool cull) {
+            const Hyperplane plane = to_plane(normal, offset);
+            std::vector<Section> out;
+            {
+              py::gil_scoped_release nogil;
+              std::vector<SliceBuffers> pieces;
+              SliceOptions o;
+              o.cull = cull;
+              s.slice(plane, pieces, threads, o);
+              out.reserve(pieces.size());
+              for (const SliceBuffers& b : pieces) out.push_back(to_section(b));
+            }
+            py::list result;
+            for (Section& sec : out) result.append(py::cast(std::move(sec)));
+            return result;
+          },
+          py::arg("normal"), py::arg("offset"), py::arg("threads") = 1, py::arg("cull") = true,
+          "The Section of every object (empty when the plane misses it), as section_objects() "
+          "gives them; threads > 1 (0: all cores) cuts objects in parallel.")
+      .def_property_readonly("touched", &SceneSlicer::touched,
+                             "Objects the last slice() did not cull.");
+
   m.def(
       "read_scene",
       [](const std::string& path) {

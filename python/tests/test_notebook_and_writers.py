@@ -90,3 +90,20 @@ def test_scene_section(tmp_path):
     pieces = cw4d.section_objects(scene, [0, 0, 0, 1], 0.25)
     assert merged.volume == pytest.approx(8.0 + 1.0)
     assert [p.volume for p in pieces] == pytest.approx([8.0, 1.0])
+
+
+def test_scene_slicer_matches_section_objects():
+    objects = ",".join(
+        f'{{"model": "24-cell", "translate": [{3 * i}, 0, 0, 0], "rotate": [["xw", {10 * i}]]}}'
+        for i in range(6))
+    scene = cw4d.parse_scene(f'{{"objects": [{objects}]}}')
+    slicer = cw4d.SceneSlicer(scene)
+    assert len(slicer) == 6
+    normal = [0.3, 0.0, 0.2, 1.0]
+    for offset in (0.1, 2.5):
+        fast = slicer.slice(normal, offset, threads=2)
+        ref = cw4d.section_objects(scene, normal, offset)
+        assert [s.fvector for s in fast] == [s.fvector for s in ref]
+        assert [s.volume for s in fast] == pytest.approx([s.volume for s in ref], rel=1e-12)
+        # culled objects are among those the plane misses
+        assert sum(not s.empty for s in ref) <= slicer.touched <= 6
