@@ -42,6 +42,7 @@ PACKAGES=(
   python3-pytest
   python3-scipy
   python3-matplotlib
+  python3-mypy
 )
 
 log() { printf 'cw4d: %s\n' "$*" >&2; }

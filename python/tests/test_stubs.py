@@ -50,3 +50,22 @@ def test_docstrings():
     for name in public(_cw4d):
         obj = getattr(_cw4d, name)
         assert inspect.getdoc(obj), name
+
+
+def test_mypy_stubtest(tmp_path):
+    """mypy's stubtest (Debian python3-mypy) compares the stubs with the imported module."""
+    import os
+    import subprocess
+    import sys
+
+    config = tmp_path / "mypy.ini"
+    config.write_text("[mypy]\nignore_missing_imports = True\n")
+    allowlist = pathlib.Path(__file__).with_name("stubtest_allowlist.txt")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(pathlib.Path(cw4d.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")]))
+    done = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "--mypy-config-file", str(config),
+         "--allowlist", str(allowlist), "cw4d"],
+        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "Success" in done.stdout
