@@ -5,6 +5,7 @@
 
 #include "common.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/scene.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/export/mesh.hpp"
 #include "cw4d/export/mesh_files.hpp"
@@ -26,11 +27,35 @@ ObjOptions obj_options(bool triangulate, bool group_by_source, const std::string
   return o;
 }
 
-// Texture coordinates of a single model's section, when the model is given and the section
-// has polygons (what the CLI writes unless --no-uvw).
-bool corner_uvw(const Section& s, const Complex* model, CornerUvw& out) {
-  if (!model || s.complex.ambient_dim() != 3 || s.complex.top_rank() < 2) return false;
-  out = section_uvw(s, {model});
+// The models a section was cut from: None, one Complex, or the Scene of section_scene().
+struct Models {
+  std::vector<const Complex*> models;
+  std::vector<std::string> names;  // the CLI's mesh names: object names for a scene
+};
+
+Models models_of(py::handle obj) {
+  Models m;
+  if (obj.is_none()) return m;
+  if (py::isinstance<Scene>(obj)) {
+    const Scene& scene = obj.cast<const Scene&>();
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      const SceneObject& o = scene.objects[i];
+      m.models.push_back(o.complex.get());
+      m.names.push_back(!o.name.empty() ? o.name
+                                        : "object " + std::to_string(i) + " (" + o.model + ")");
+    }
+    return m;
+  }
+  m.models.push_back(&obj.cast<const Complex&>());
+  return m;
+}
+
+// Texture coordinates of the section (what the CLI writes unless --no-uvw), when its models
+// are given and it has polygons.
+bool corner_uvw(const Section& s, const Models& models, CornerUvw& out) {
+  if (models.models.empty() || s.complex.ambient_dim() != 3 || s.complex.top_rank() < 2)
+    return false;
+  out = section_uvw(s, models.models);
   return true;
 }
 
@@ -74,36 +99,38 @@ void bind_output(py::module_& m) {
   m.def(
       "obj_text",
       [](const Section& s, bool triangulate, bool group_by_source, const std::string& comment,
-         const Complex* model) {
+         py::object model) {
         ObjOptions o = obj_options(triangulate, group_by_source, comment);
         CornerUvw uvw;
-        if (corner_uvw(s, model, uvw)) o.uvw = &uvw;
+        if (corner_uvw(s, models_of(model), uvw)) o.uvw = &uvw;
         py::gil_scoped_release nogil;
         return obj_text(s, o);
       },
       py::arg("section"), py::arg("triangulate") = false, py::arg("group_by_source") = true,
-      py::arg("comment") = "", py::arg("model") = nullptr,
+      py::arg("comment") = "", py::arg("model") = py::none(),
       "Wavefront OBJ text of a section (a `g` group per source cell); with `model` (the "
-      "Complex it was cut from) also `vt u v w` texture coordinates.");
+      "Complex it was cut from, or the Scene of section_scene) also `vt u v w` texture "
+      "coordinates.");
   m.def(
       "write_obj",
       [](const std::string& path, const Section& s, bool triangulate, bool group_by_source,
-         const std::string& comment, const Complex* model) {
+         const std::string& comment, py::object model) {
         ObjOptions o = obj_options(triangulate, group_by_source, comment);
         CornerUvw uvw;
-        if (corner_uvw(s, model, uvw)) o.uvw = &uvw;
+        if (corner_uvw(s, models_of(model), uvw)) o.uvw = &uvw;
         py::gil_scoped_release nogil;
         write_obj_file(path, s, o);
       },
       py::arg("path"), py::arg("section"), py::arg("triangulate") = false,
-      py::arg("group_by_source") = true, py::arg("comment") = "", py::arg("model") = nullptr,
+      py::arg("group_by_source") = true, py::arg("comment") = "", py::arg("model") = py::none(),
       "Writes obj_text() to `path` (and the face colors to a .mtl beside it), atomically.");
   m.def(
       "write_gltf",
       [](const std::string& path, py::object sections, std::optional<bool> binary,
          double seconds_per_node, const std::string& description,
-         std::optional<std::vector<std::string>> names, const Complex* model) {
+         std::optional<std::vector<std::string>> names, py::object model) {
         const std::vector<Section> secs = sections_of(sections);
+        const Models models = models_of(model);
         if (names && names->size() != secs.size())
           throw InputError("names must have one entry per section");
         GltfOptions o;
@@ -115,20 +142,26 @@ void bind_output(py::module_& m) {
         for (std::size_t i = 0; i < secs.size(); ++i) {
           const std::string name = names ? (*names)[i] : "section_" + std::to_string(i);
           CornerUvw uvw;
-          const bool has_uvw = corner_uvw(secs[i], model, uvw);
-          GltfNode node;
-          node.name = name;
-          node.meshes = triangle_meshes(secs[i], {name}, has_uvw ? &uvw : nullptr);
-          nodes.push_back(std::move(node));
+          const bool has_uvw = corner_uvw(secs[i], models, uvw);
+          // A scene's section: one node per object mesh, named after the objects (as the CLI).
+          const std::vector<std::string> mesh_names =
+              models.names.empty() ? std::vector<std::string>{name} : models.names;
+          for (auto& mesh : triangle_meshes(secs[i], mesh_names, has_uvw ? &uvw : nullptr)) {
+            GltfNode node;
+            node.name = models.names.empty() ? name : mesh.name;
+            node.meshes.push_back(std::move(mesh));
+            nodes.push_back(std::move(node));
+          }
         }
         write_gltf_file(path, nodes, o);
       },
       py::arg("path"), py::arg("sections"), py::arg("binary") = py::none(),
       py::arg("seconds_per_node") = 0.0, py::arg("description") = "", py::arg("names") = py::none(),
-      py::arg("model") = nullptr,
+      py::arg("model") = py::none(),
       "Writes a Section or a list of Sections (one node each; seconds_per_node > 0 animates "
       "them in turn) as glTF 2.0: .glb binary when the path ends in .glb (or binary=True), "
-      "else .gltf JSON plus a .bin.");
+      "else .gltf JSON plus a .bin. With `model` (a Complex, or the Scene of section_scene: "
+      "then one node per object, named as the CLI names them) the meshes get UVW.");
   m.def(
       "write_ply",
       [](const std::string& path, const Section& s) {

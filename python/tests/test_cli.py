@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import cw4d
+from conftest import REPO
 
 MODELS = ["5-cell", "tesseract", "24-cell", "120-cell", "duoprism:5,7", "wythoff:x4x3o3o"]
 
@@ -136,3 +137,38 @@ def test_parse_error_matches_cli(cli, tmp_path):
         cw4d.read_off(str(bad))
     assert str(caught.value) in done.stderr
     assert caught.value.file == str(bad) and caught.value.line == 5
+
+
+def test_scene_matches_cli(cli, tmp_path):
+    scene_file = REPO / "data" / "example-scene.json"
+    out = tmp_path / "scene.obj"
+    printed = cli("slice", "--scene", scene_file, "--normal", "0.1,0,0.2,1", "--offset", 0.1,
+                  "-o", out).stdout
+    scene = cw4d.read_scene(str(scene_file))
+    assert [o.name for o in scene.objects] == ["centre", "left", "right"]
+    cut = cw4d.section_scene(scene, [0.1, 0, 0.2, 1], 0.1)
+    mine = tmp_path / "mine.obj"
+    cw4d.write_obj(str(mine), cut, model=scene)
+    mine_lines = strip_comments(mine.read_text())
+    assert mine_lines == [l.replace("scene.mtl", "mine.mtl") for l in strip_comments(out.read_text())]
+    assert "mtllib mine.mtl" in mine_lines
+    assert mine.with_suffix(".mtl").read_text() == out.with_suffix(".mtl").read_text()
+    pieces = cw4d.SceneSlicer(scene).slice([0.1, 0, 0.2, 1], 0.1)
+    # the CLI prints one line per object with its f-vector and volume
+    for i, piece in enumerate(pieces):
+        line = next(l for l in printed.splitlines() if l.strip().startswith(f"object {i} "))
+        assert f"{piece.fvector[0]} vertices" in line
+
+
+def test_scene_glb_matches_cli(cli, tmp_path):
+    scene_file = REPO / "data" / "example-scene.json"
+    out = tmp_path / "scene.glb"
+    cli("slice", "--scene", scene_file, "--normal", "0,0.3,0,1", "--offset", -0.2, "-o", out)
+    scene = cw4d.read_scene(str(scene_file))
+    mine = tmp_path / "mine.glb"
+    cw4d.write_gltf(str(mine), cw4d.section_scene(scene, [0, 0.3, 0, 1], -0.2), model=scene)
+    a, b = glb_json(out.read_bytes()), glb_json(mine.read_bytes())
+    assert [n["name"] for n in a["nodes"]] == [n["name"] for n in b["nodes"]] == \
+        ["centre", "left", "right"]
+    assert a["accessors"] == b["accessors"] and a["meshes"] == b["meshes"]
+    assert a["materials"] == b["materials"]
