@@ -78,3 +78,22 @@ def test_io_error(tmp_path):
         cw4d.write_obj(str(blocker / "cut.obj"), s)  # a path under a regular file
     with pytest.raises(OSError):
         cw4d.write_off(str(blocker / "cut.4off"), s)
+
+
+def test_bad_arguments_of_the_other_calls():
+    t = cw4d.load_model("tesseract")
+    sm = cw4d.SliceModel(t)
+    with pytest.raises(cw4d.InputError, match="R\\^3"):
+        cw4d.section(t, [0, 0, 0, 1], 0.0, cw4d.AffineTransform.identity(3))
+    with pytest.raises(cw4d.InputError, match="finite"):
+        cw4d.Slicer().sweep(sm, [0, 0, 0, 1], [0.0, float("nan")])
+    with pytest.raises(cw4d.InputError):
+        cw4d.Slicer().slice(sm, [0, 0, 1], 0.0)
+    with pytest.raises(cw4d.InputError, match="R\\^2"):
+        cw4d.render(cw4d.section(cw4d.load_model("cube:3"), [0, 0, 1], 0.0))
+    with pytest.raises(cw4d.InputError):
+        cw4d.render(cw4d.section(t, [0, 0, 0, 1], 0.0), width=0)
+    with pytest.raises(cw4d.InputError):
+        cw4d.write_png("unused.png", np.zeros((2, 2), np.uint8))
+    with pytest.raises(cw4d.InputError, match="normal"):
+        cw4d.section(t, ["a", 1, 2, 3], 0.0)
