@@ -242,3 +242,7 @@ log "slicing the rotated tesseract into out/section.obj"
 "$BUILD_DIR/apps/cw4d" slice tesseract --rotate xw:30 --rotate yw:25 --rotate zw:20 \
   --normal 0,0,0,1 --offset 0.25 -o out/section.obj
 [[ -s out/section.obj ]] || die "cw4d slice did not write out/section.obj"
+if compgen -G "$BUILD_DIR/python/cw4d/_cw4d*.so" >/dev/null; then
+  python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
+  log "the Python module: PYTHONPATH=$BUILD_DIR/python ${python:-python3} -c 'import cw4d' (README: Python)"
+fi

@@ -34,6 +34,7 @@ def test_every_module_name_is_stubbed():
     top, _ = stub_names()
     assert public(_cw4d) == top
     assert set(cw4d.__all__) == top
+    assert all(hasattr(cw4d, name) for name in cw4d.__all__)
 
 
 def test_every_class_member_is_stubbed():
