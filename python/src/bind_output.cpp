@@ -101,8 +101,10 @@ void bind_output(py::module_& m) {
       [](const Section& s, bool triangulate, bool group_by_source, const std::string& comment,
          py::object model) {
         ObjOptions o = obj_options(triangulate, group_by_source, comment);
+        const Models models = models_of(model);
+        o.object_names = models.names;  // the `o` lines of a scene's objects
         CornerUvw uvw;
-        if (corner_uvw(s, models_of(model), uvw)) o.uvw = &uvw;
+        if (corner_uvw(s, models, uvw)) o.uvw = &uvw;
         py::gil_scoped_release nogil;
         return obj_text(s, o);
       },
@@ -116,8 +118,10 @@ void bind_output(py::module_& m) {
       [](const std::string& path, const Section& s, bool triangulate, bool group_by_source,
          const std::string& comment, py::object model) {
         ObjOptions o = obj_options(triangulate, group_by_source, comment);
+        const Models models = models_of(model);
+        o.object_names = models.names;  // the `o` lines of a scene's objects
         CornerUvw uvw;
-        if (corner_uvw(s, models_of(model), uvw)) o.uvw = &uvw;
+        if (corner_uvw(s, models, uvw)) o.uvw = &uvw;
         py::gil_scoped_release nogil;
         write_obj_file(path, s, o);
       },

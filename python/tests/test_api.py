@@ -194,3 +194,11 @@ def test_operators_and_builtins():
     text = cw4d.off_text(cw4d.load_model("5-cell"))
     again = cw4d.parse_off(text)
     assert np.array_equal(again.positions, cw4d.load_model("5-cell").positions)
+
+
+def test_hull_based_families_are_registered():
+    # the non-Wythoffian convex uniform polychora (Conway and Guy, 1965; f-vectors as in
+    # Johnson's list): the snub 24-cell and the grand antiprism
+    assert cw4d.load_model("snub 24-cell").fvector[:4] == (96, 432, 480, 144)
+    assert cw4d.load_model("grand antiprism").fvector[:4] == (100, 500, 720, 320)
+    assert any(spec.startswith("glome") for spec, _ in cw4d.builtin_list())

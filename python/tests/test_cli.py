@@ -9,7 +9,8 @@ import pytest
 import cw4d
 from conftest import REPO
 
-MODELS = ["5-cell", "tesseract", "24-cell", "120-cell", "duoprism:5,7", "wythoff:x4x3o3o"]
+MODELS = ["5-cell", "tesseract", "24-cell", "120-cell", "duoprism:5,7", "wythoff:x4x3o3o",
+          "snub 24-cell", "grand antiprism"]
 
 
 @pytest.mark.parametrize("spec", MODELS)
