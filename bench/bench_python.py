@@ -1,10 +1,10 @@
 """Costs of the Python module, measured side by side in one process (ratios, not limits):
 
 1. the per-call overhead of cw4d.section over the C++ section() it wraps: the same call in a
-   Python loop and in a C++ loop (cw4d._cw4d._seconds_per_section), alternating rounds, the
-   median of each;
+   Python loop and in a C++ loop (cw4d._cw4d._seconds_per_section), 31 alternating rounds of
+   about 50 ms each, the median of each;
 2. two threads sweeping at once (each with its own Slicer; the GIL is released) against the same
-   two sweeps one after the other.
+   two sweeps one after the other (7 alternating rounds, medians).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_python.py
 """
@@ -28,12 +28,13 @@ def python_loop(model, normal, offset, calls):
     return (time.perf_counter() - start) / calls
 
 
-def overhead(name, normal, offset, budget=0.25):
+def overhead(name, normal, offset, budget=0.05, rounds=31):
+    """Short alternating rounds, so that both loops see the same load; medians."""
     model = cw4d.load_model(name)
     per = _cw4d._seconds_per_section(model, normal, offset, 3)
     calls = max(3, int(budget / max(per, 1e-7)))
     py_rounds, cpp_rounds = [], []
-    for _ in range(ROUNDS):
+    for _ in range(rounds):
         py_rounds.append(python_loop(model, normal, offset, calls))
         cpp_rounds.append(_cw4d._seconds_per_section(model, normal, offset, calls))
     py, cpp = statistics.median(py_rounds), statistics.median(cpp_rounds)
