@@ -35,9 +35,10 @@ def test_example_runs(script, tmp_path):
         else run(script, tmp_path / "out.png", cwd=tmp_path)
     assert out.strip()
     if script.name == "quickstart.py":
-        image = cw4d.read_png(str(tmp_path / "out.png"))
+        image = cw4d.read_png(str(tmp_path / "quickstart.png"))
         assert image.shape == (360, 480, 4)
-        volume = float(out.split("volume")[1])
+        assert out.split(" ", 1)[1].strip() == "(80, 3) (80, 120, 42)"
+        volume = float(out.split()[0])
         ref = cw4d.section(cw4d.load_model("120-cell"), [0, 0, 0, 1], 0.5).volume
         assert volume == pytest.approx(ref, abs=1e-6)
     elif script.name == "volume_profile.py":
