@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # cw4d setup: installs the Debian packages the build needs, builds Release into build/, then
 #   ./setup.sh        runs the main job (a tesseract section written to out/section.obj)
-#   ./setup.sh test   runs the test suite (ctest), then again under ASan+UBSan in build-asan/,
-#                     then each libFuzzer target for 60 s (build-fuzz/), and exits with the status
+#   ./setup.sh test   runs the test suite (ctest), the Python module's tests (pytest), then the
+#                     C++ suite again under ASan+UBSan in build-asan/, then each libFuzzer
+#                     target for 60 s (build-fuzz/), and exits with the status
 # Safe to run again: only missing packages are installed and the build is incremental.
 # Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build).
 set -euo pipefail
@@ -34,6 +35,14 @@ PACKAGES=(
   clang
   libclang-rt-14-dev
   libosmesa6-dev
+  python3-dev
+  pybind11-dev
+  python3-pybind11
+  python3-numpy
+  python3-pytest
+  python3-scipy
+  python3-matplotlib
+  python3-mypy
 )
 
 log() { printf 'cw4d: %s\n' "$*" >&2; }
@@ -134,6 +143,7 @@ run_sanitizer_suite() {
   discard_stale_cache "$dir"
   log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build in $dir/"
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCW4D_BUILD_BENCH=OFF \
+    -DCW4D_BUILD_PYTHON=OFF \
     "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" \
     "-DCMAKE_EXE_LINKER_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_SHARED_LINKER_FLAGS=$SANITIZE_FLAGS" >&2 ||
     return 1
@@ -183,6 +193,29 @@ install_test_tools() {
   cp tests/tools/package-lock.json tests/tools/node_modules/.package-lock.json.cw4d
 }
 
+# --- (c') test mode only: the Python module's pytest suite -------------------------------------
+# Runs with the interpreter the module was built for (Python3_EXECUTABLE in the CMake cache,
+# /usr/bin/python3 by default), against build/python. pytest's exit 5 (no test collected) is a
+# failure here, like every other non-zero status.
+run_python_tests() {
+  local cache="$BUILD_DIR/CMakeCache.txt" python status=0
+  if [[ "$(sed -n 's/^CW4D_BUILD_PYTHON:BOOL=//p' "$cache")" != ON ]]; then
+    log "the Python module is not built (CW4D_BUILD_PYTHON is off in $BUILD_DIR/): no pytest run"
+    return 1
+  fi
+  python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$cache")"
+  [[ -x "$python" ]] || { log "the Python interpreter '$python' of $cache is missing"; return 1; }
+  log "testing the Python module with $python -m pytest"
+  PYTHONPATH="$PWD/$BUILD_DIR/python${PYTHONPATH:+:$PYTHONPATH}" CW4D_CLI="$PWD/$BUILD_DIR/apps/cw4d" \
+    MPLBACKEND=Agg "$python" -m pytest -q -p no:cacheprovider python/tests || status=$?
+  case "$status" in
+    0) log "Python tests passed" ;;
+    5) log "Python tests FAILED: pytest collected no tests (exit 5)" ;;
+    *) log "Python tests FAILED (pytest exit $status)" ;;
+  esac
+  return "$status"
+}
+
 install_missing_packages
 configure_and_build
 
@@ -193,6 +226,9 @@ if [[ "$MODE" == test ]]; then
   status=0
   ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || status=$?
   if ((status == 0)); then log "tests passed"; else log "tests FAILED (ctest exit $status)"; fi
+  if ((status == 0)); then
+    run_python_tests || status=$?
+  fi
   if ((status == 0)) && [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then
     run_sanitizer_suite || status=$?
   fi
@@ -206,3 +242,7 @@ log "slicing the rotated tesseract into out/section.obj"
 "$BUILD_DIR/apps/cw4d" slice tesseract --rotate xw:30 --rotate yw:25 --rotate zw:20 \
   --normal 0,0,0,1 --offset 0.25 -o out/section.obj
 [[ -s out/section.obj ]] || die "cw4d slice did not write out/section.obj"
+if compgen -G "$BUILD_DIR/python/cw4d/_cw4d*.so" >/dev/null; then
+  python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
+  log "the Python module: PYTHONPATH=$BUILD_DIR/python ${python:-python3} -c 'import cw4d' (README: Python)"
+fi
