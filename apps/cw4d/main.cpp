@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
   cli::add_bench_command(app, commands);
+  cli::add_view_command(app, commands);
 
   try {
     app.parse(argc, argv);

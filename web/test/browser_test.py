@@ -9,7 +9,9 @@ native cw4d command line:
   * a sweep's layers equal the native slices at the same offsets;
   * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97);
   * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
-  * bad input gives one-line errors.
+  * bad input gives one-line errors;
+  * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
+    `cw4d slice` makes of the same placed model.
 
 It also prints the slice time of the WebAssembly core beside the native `cw4d bench` figure
 for the same models (reported, not asserted: speed is measured, never a test condition).
@@ -144,6 +146,41 @@ def native_bench_us(args, model):
     return float(m.group(1))
 
 
+def check_view(args, tmp):
+    """`cw4d view` writes one file that opens from disk (file://, no server) and shows the same
+    section as `cw4d slice` of the same placed model."""
+    case = {"spec": "24-cell", "rotate": [["xw", 40], ["xy", 15], ["zw", -25]],
+            "normal": [1, 0, 1, 2], "offset": 0.35}
+    page = os.path.join(tmp, "view.html")
+    cmd = [args.cw4d, "view", case["spec"], "--normal", "1,0,1,2", "--offset", "0.35", "-o", page,
+           "--template", os.path.join(args.site, "cw4d-view.html")]
+    for plane, deg in case["rotate"]:
+        cmd += ["--rotate", f"{plane}:{deg}"]
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    if run.returncode != 0:
+        fail(f"{' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
+    try:
+        dump = subprocess.run(
+            chromium_command(args.chromium, profile, "file://" + os.path.abspath(page))[:-1] +
+            ["--virtual-time-budget=20000", "--dump-dom", "file://" + os.path.abspath(page)],
+            capture_output=True, text=True, timeout=300)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+    fv = re.search(r'id="fvector">\(([\d, ]+)\)<', dump.stdout)
+    vol = re.search(r'id="volume">([^<]+)<', dump.stdout)
+    if not fv or not vol:
+        status = re.search(r'id="status"[^>]*>([^<]*)<', dump.stdout)
+        fail("the page of cw4d view shows no section (status: "
+             f"{status.group(1) if status else dump.stdout[:300]!r})")
+    counts, volume, line = native_slice(args, tmp, case, case["offset"])
+    shown = [int(x) for x in fv.group(1).split(",")]
+    if shown != counts or not close(float(vol.group(1)), volume):
+        fail(f"cw4d view page shows ({fv.group(1)}), volume {vol.group(1)}; native '{line}'",
+             fatal=False)
+    return 1
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--site", required=True)
@@ -180,6 +217,7 @@ def main():
             if layer["fvector"] != counts or not close(layer["volume"], volume):
                 fail(f"sweep layer d={layer['offset']}: WASM {layer}, native '{line}'", fatal=False)
             checked += 1
+        checked += check_view(args, tmp)
 
     for g in page["gpu"]:
         if g["skippedCells"] != 0 or g["tets"] <= 0:
