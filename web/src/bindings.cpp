@@ -551,7 +551,12 @@ val catalogue() {
     val e = val::object();
     e.set("spec", b.spec);
     e.set("description", b.description);
-    e.set("available", true);
+    // extrude: and spin: read their polyhedron through OpenMesh (mesh_import_unavailable.cpp).
+    const bool mesh_file = b.spec.starts_with("extrude:") || b.spec.starts_with("spin:");
+    e.set("available", !mesh_file);
+    if (mesh_file)
+      e.set("reason", std::string("reads OBJ/OFF/PLY/STL through OpenMesh, not in the "
+                                  "WebAssembly build"));
     out.call<void>("push", e);
   }
   for (const BuiltinInfo& b : cgal_families()) {
