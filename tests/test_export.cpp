@@ -400,6 +400,13 @@ TEST_CASE("glTF: a sweep's animation shows exactly one layer at every key", "[ex
     REQUIRE(root != m.scenes[0].nodes.end());
     scale[root - m.scenes[0].nodes.begin()] = read_floats(m, sampler.output);
   }
+  // At rest (a viewer that does not play animations) only the first layer is visible.
+  for (int i = 0; i < layers; ++i) {
+    const auto& node = m.nodes.at(static_cast<std::size_t>(m.scenes[0].nodes[i]));
+    const bool shown_at_rest = node.scale.empty() || node.scale == std::vector<double>{1, 1, 1};
+    CHECK(shown_at_rest == (i == 0));
+    if (!shown_at_rest) CHECK(node.scale == std::vector<double>{0, 0, 0});
+  }
   REQUIRE(times.cols() == layers + 1);
   for (Eigen::Index k = 0; k < times.cols(); ++k) {
     CHECK_THAT(times(0, k), WithinAbs(0.5 * k, 1e-6));
@@ -522,6 +529,46 @@ TEST_CASE("STL: binary triangles with outward normals and the oracle's volume", 
   }
   CHECK_THROWS_AS(cw4d::write_stl_file((dir / "none.stl").string(), {}), cw4d::InputError);
   CHECK(!dir.exists("none.stl"));
+}
+
+TEST_CASE("OBJ: a scene's section starts each object with an `o` line named after it",
+          "[export][obj]") {
+  std::istringstream json(R"({"objects": [
+      {"model": "tesseract", "name": "left", "translate": [-3, 0, 0, 0]},
+      {"model": "24-cell", "translate": [0, 0, 0, 0]},
+      {"model": "simplex:4", "name": "far", "translate": [0, 0, 0, 50]},
+      {"model": "16-cell", "name": "right", "translate": [3, 0, 0, 0]}]})");
+  const cw4d::Scene scene = cw4d::read_scene(json, "inline");
+  const cw4d::Section sec =
+      cw4d::section_scene(scene, cw4d::Hyperplane::from(vec({0, 0, 0, 1}), 0.1));
+  cw4d::ObjOptions opt;
+  opt.object_names = {"left", "", "far", "right"};
+  std::istringstream text(cw4d::obj_text(sec, opt));
+  std::vector<std::string> objects;
+  std::vector<std::size_t> faces_of;  // faces after each `o`
+  std::string line;
+  bool face_before_first_object = false;
+  while (std::getline(text, line)) {
+    if (line.rfind("o ", 0) == 0) {
+      objects.push_back(line.substr(2));
+      faces_of.push_back(0);
+    } else if (line.rfind("f ", 0) == 0) {
+      if (objects.empty()) face_before_first_object = true;
+      else ++faces_of.back();
+    }
+  }
+  CHECK_FALSE(face_before_first_object);
+  // The far simplex is missed; the nameless 24-cell gets its index.
+  CHECK(objects == std::vector<std::string>{"left", "object_1", "right"});
+  // Each object's polygons: the tesseract's cut at w = 0.1 is a cube (6 squares), the 24-cell's
+  // and 16-cell's are the polyhedra of their cells met by the plane, counted from the section.
+  std::vector<std::size_t> expected(4, 0);
+  for (std::uint32_t o : sec.object_of_face) ++expected[o];
+  REQUIRE(faces_of.size() == 3);
+  CHECK(faces_of[0] == 6);
+  CHECK(faces_of[0] == expected[0]);
+  CHECK(faces_of[1] == expected[1]);
+  CHECK(faces_of[2] == expected[3]);
 }
 
 TEST_CASE("OBJ: `vt u v w` per corner, referenced as v/vt/vn, inside [0,1]^3", "[export][obj]") {

@@ -130,6 +130,15 @@ TEST_CASE("slice --scene: one glTF node per object the plane meets, validated", 
   validate(dir, {"scene.glb"});
   const AssimpCounts c = assimp_info(dir, "scene.glb");
   CHECK(c.meshes == 3);
+  // The OBJ keeps the scene's objects apart: assimp (like Blender) makes a node per `o` line.
+  cw4d_run(dir, {"slice", "--scene", CW4D_SOURCE_DIR "/data/example-scene.json", "--normal",
+                 "0,0,0,1", "--offset", "0.1", "-o", "scene.obj"});
+  const Result info = cw4d::test::run_program(dir, CW4D_ASSIMP, {"info", "scene.obj"});
+  REQUIRE(info.code == 0);
+  for (const char* name : {"centre", "left", "right"}) {
+    INFO(name << " in\n" << info.out);
+    CHECK(info.out.find(std::string("\u2574") + name + "\n") != std::string::npos);  // "├╴name"
+  }
 }
 
 TEST_CASE("sweep: 64 layers of the 24-cell as one animated GLB with 64 meshes", "[export][tools]") {

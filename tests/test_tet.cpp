@@ -840,3 +840,73 @@ TEST_CASE("tet CLI: tetrahedralize and slice --method tet", "[tet][cli]") {
   CHECK(test::read_text(dir / "out.txt").find("intersects itself") != std::string::npos);
   CHECK_FALSE(dir.exists("gd.vtu"));
 }
+
+// The Schlegel diagram the .vtu files use as their 3D points: for a convex polytope the images of
+// the cells behind the front cell tile the front cell's image, so their 3D volumes add up to it,
+// every image keeps its orientation, and exactly one cell faces the eye.
+TEST_CASE("Schlegel view: the cells behind the front cell tile its image", "[tet][export]") {
+  for (const char* spec : {"tesseract", "5-cell", "24-cell", "120-cell", "600-cell",
+                           "duoprism:5,7", "prism:wythoff:x5o3o"}) {
+    INFO(spec);
+    const TetMesh mesh = tetrahedralize(load_model(spec));
+    const SchlegelView view = schlegel_view(mesh);
+    CHECK((view.basis.transpose() * view.basis - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+    CHECK((view.basis.transpose() * view.normal).cwiseAbs().maxCoeff() < 1e-12);
+    double front = 0.0, behind = 0.0;
+    int front_cells = 0;
+    std::vector<int> sign_of_cell(mesh.cell_count(), 0);
+    for (std::uint32_t c = 0; c < mesh.cell_count(); ++c) front_cells += view.faces_eye(mesh, c);
+    CHECK(front_cells == 1);
+    CHECK(view.faces_eye(mesh, view.front_cell));
+    for (std::size_t t = 0; t < mesh.size(); ++t) {
+      std::array<Eigen::Vector3d, 4> p;
+      for (int k = 0; k < 4; ++k) p[k] = view.project(mesh.corner_position(t, k));
+      const double v = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) / 6.0;
+      REQUIRE(v != 0.0);
+      // Orientation is the same for all tetrahedra of one cell, opposite for the front cell.
+      int& s = sign_of_cell[mesh.tet_cell[t]];
+      if (s == 0) s = v > 0 ? 1 : -1;
+      CHECK(s == (v > 0 ? 1 : -1));
+      (mesh.tet_cell[t] == view.front_cell ? front : behind) += std::abs(v);
+    }
+    for (std::uint32_t c = 0; c < mesh.cell_count(); ++c)
+      if (c != view.front_cell) CHECK(sign_of_cell[c] == -sign_of_cell[view.front_cell]);
+    CHECK_THAT(behind, Catch::Matchers::WithinRel(front, 1e-9));
+  }
+}
+
+TEST_CASE(".vtu points are the Schlegel diagram, every tetrahedron with positive volume",
+          "[tet][export]") {
+  const TetMesh mesh = tetrahedralize(load_model("24-cell"));
+  const SchlegelView view = schlegel_view(mesh);
+  std::istringstream text(vtu_text(mesh));
+  std::string all((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  const auto array_values = [&](const std::string& name) {
+    const std::size_t at = all.find("Name=\"" + name + "\"");
+    REQUIRE(at != std::string::npos);
+    const std::size_t open = all.find('>', at) + 1;
+    std::istringstream in(all.substr(open, all.find('<', open) - open));
+    std::vector<double> v;
+    for (double x; in >> x;) v.push_back(x);
+    return v;
+  };
+  const std::vector<double> points = array_values("Points"), pos4 = array_values("position4");
+  const std::vector<double> front = array_values("front");
+  REQUIRE(points.size() == 12 * mesh.size());
+  REQUIRE(pos4.size() == 16 * mesh.size());
+  REQUIRE(front.size() == mesh.size());
+  double front_volume = 0.0, behind_volume = 0.0;
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    std::array<Eigen::Vector3d, 4> p;
+    for (int k = 0; k < 4; ++k) {
+      const std::size_t i = 4 * t + static_cast<std::size_t>(k);
+      p[k] = Eigen::Vector3d(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+      const Eigen::Vector4d x(pos4[4 * i], pos4[4 * i + 1], pos4[4 * i + 2], pos4[4 * i + 3]);
+      CHECK((view.project(x) - p[k]).norm() < 1e-12);  // each point is its corner's image
+    }
+    const double v = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) / 6.0;
+    CHECK(v > 0.0);
+    (front[t] == 1.0 ? front_volume : behind_volume) += v;
+  }
+  CHECK_THAT(behind_volume, Catch::Matchers::WithinRel(front_volume, 1e-9));
+}

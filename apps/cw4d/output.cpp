@@ -117,6 +117,7 @@ std::vector<std::string> write_section(const std::string& path, const Section& s
       ObjOptions opt;
       opt.triangulate = out.triangulate;
       opt.comment = out.comment;
+      opt.object_names = input.object_names();
       CornerUvw corners;
       if (out.uvw && sec.complex.ambient_dim() == 3 && sec.complex.top_rank() >= 2) {
         corners = section_uvw(sec, input.models());

@@ -194,6 +194,13 @@ tinygltf::Model build(const std::vector<GltfNode>& nodes, const GltfOptions& opt
     roots.push_back(b.node(std::move(root)));
   }
   if (roots.empty()) throw InputError("glTF: nothing to write (no meshes)");
+  // A viewer that does not play the animation (a static preview, ParaView, three.js without a
+  // mixer) shows the nodes at rest: only the first layer, not all of them stacked.
+  if (options.seconds_per_node > 0.0) {
+    for (std::size_t i = 1; i < roots.size(); ++i) {
+      b.model().nodes[static_cast<std::size_t>(roots[i])].scale = {0.0, 0.0, 0.0};
+    }
+  }
   scene.nodes = roots;
   b.model().scenes.push_back(std::move(scene));
   b.model().defaultScene = 0;

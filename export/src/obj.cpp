@@ -53,9 +53,12 @@ Materials materials(const Complex& c) {
 // holes: per face, the faces that are holes in it (section_holes); empty for none. A face with
 // holes is written as the triangles of ear_clip_triangulate (OBJ polygons have no holes), and
 // the hole faces themselves are not written.
+// object_of_face: the scene object of each face (Section::object_of_face, contiguous per
+// object) or null; an `o object_<i>` line starts each object, so importers that make one
+// object per `o` (Blender) keep the scene's objects apart.
 std::string write(const Complex& c, const std::vector<std::string>* group_of_face,
-                  const ObjOptions& opt,
-                  const std::vector<std::vector<std::uint32_t>>& holes = {}) {
+                  const ObjOptions& opt, const std::vector<std::vector<std::uint32_t>>& holes = {},
+                  const std::vector<std::uint32_t>* object_of_face = nullptr) {
   const int dim = c.ambient_dim();
   if (dim != 2 && dim != 3)
     throw InputError("OBJ holds 3D geometry; this complex lives in R^" + std::to_string(dim) +
@@ -131,8 +134,20 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
     }
     throw InputError("OBJ: a triangle names a vertex outside its face");
   };
+  std::uint32_t current_object = 0xffffffffu;
   for (std::uint32_t f = 0; f < nf; ++f) {
     if (is_hole[f]) continue;
+    if (object_of_face && (*object_of_face)[f] != current_object) {
+      current_object = (*object_of_face)[f];
+      std::string name = current_object < opt.object_names.size() ? opt.object_names[current_object]
+                                                                  : std::string();
+      for (char& ch : name)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+      if (name.empty()) name = "object_" + std::to_string(current_object);
+      out += "o " + name + "\n";
+      current_group = nullptr;
+      current_material = 0xffffffffu;
+    }
     if (group_of_face && opt.group_by_source &&
         (!current_group || (*group_of_face)[f] != *current_group)) {
       current_group = &(*group_of_face)[f];
@@ -175,7 +190,8 @@ std::string obj_text(const Section& section, const ObjOptions& options) {
   for (std::uint32_t f = 0; f < nf; ++f)
     groups[f] = (objects ? "object_" + std::to_string(section.object_of_face[f]) + "_" : "") +
                 "cell_" + std::to_string(section.source[2][f]);
-  return write(section.complex, &groups, options, section_holes(section));
+  return write(section.complex, &groups, options, section_holes(section),
+               objects ? &section.object_of_face : nullptr);
 }
 
 std::string mtl_text(const Complex& complex) {

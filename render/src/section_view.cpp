@@ -194,7 +194,7 @@ Image render_stereo_pair(const Section& section, const SectionViewOptions& o, fl
     separation = 0.06f * 2.0f * std::max(f.radius, 1e-6f);
   }
   // The eyes move inside the hyperplane: the section is the same for both, only the camera
-  // shifts (seed 000: cut first, then offset within the cut).
+  // shifts ([wxyhly 2024], 裸眼3D: cut first, then offset within the cut).
   const glm::vec3 shift = 0.5f * separation * centre.right();
   Camera left = centre, right = centre;
   left.eye -= shift;

@@ -16,7 +16,8 @@ std::vector<Triangle> fan_triangulate(const Complex& complex) {
   if (complex.top_rank() < 2) return out;
   for (std::uint32_t f = 0; f < complex.count(2); ++f) {
     auto cyc = complex.face_cycle(f);
-    for (std::size_t k = 1; k + 1 < cyc.size(); ++k) out.push_back({{cyc[0], cyc[k], cyc[k + 1]}, f});
+    for (std::size_t k = 1; k + 1 < cyc.size(); ++k)
+      out.push_back({{cyc[0], cyc[k], cyc[k + 1]}, f});
   }
   return out;
 }
@@ -66,7 +67,8 @@ bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {
 
 // Closed segments ab and cd meet (touching counts).
 bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+               o4 = orient(c, d, b);
   if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
     return true;
   return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
@@ -120,7 +122,8 @@ bool clip_ears(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids, std::uin
         const double o = orient(pts[ip], pts[i], pts[in]);
         // First pass: proper ears. Second: straight angles (a zero-area triangle keeps the
         // vertex, so the mesh stays watertight with the neighbouring faces).
-        if (pass == 0 ? o <= 0 : !(o == 0 && (pts[i] - pts[ip]).dot(pts[in] - pts[i]) > 0)) continue;
+        if (pass == 0 ? o <= 0 : !(o == 0 && (pts[i] - pts[ip]).dot(pts[in] - pts[i]) > 0))
+          continue;
         bool blocked = false;
         if (pass == 0)
           for (std::size_t j : reflex) {
@@ -154,7 +157,8 @@ bool bridge_hole(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids,
                  const std::vector<std::vector<Vec2>>& others) {
   std::size_t m = 0;
   for (std::size_t i = 1; i < hpts.size(); ++i)
-    if (hpts[i].x() > hpts[m].x() || (hpts[i].x() == hpts[m].x() && hpts[i].y() < hpts[m].y())) m = i;
+    if (hpts[i].x() > hpts[m].x() || (hpts[i].x() == hpts[m].x() && hpts[i].y() < hpts[m].y()))
+      m = i;
   const Vec2 M = hpts[m];
   auto blocked = [&](const Vec2& P, const std::vector<Vec2>& loop) {
     for (std::size_t j = 0; j < loop.size(); ++j) {
@@ -198,7 +202,8 @@ bool bridge_hole(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids,
 }
 
 void fan(const std::vector<std::uint32_t>& cyc, std::uint32_t face, std::vector<Triangle>& out) {
-  for (std::size_t k = 1; k + 1 < cyc.size(); ++k) out.push_back({{cyc[0], cyc[k], cyc[k + 1]}, face});
+  for (std::size_t k = 1; k + 1 < cyc.size(); ++k)
+    out.push_back({{cyc[0], cyc[k], cyc[k + 1]}, face});
 }
 
 // Point-in-polygon by the crossing rule (p strictly inside; boundary points count as outside).
@@ -214,7 +219,31 @@ bool inside_loop(const std::vector<Vec2>& loop, const Vec2& p) {
   return in;
 }
 
+double signed_area(const std::vector<Vec2>& pts) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Vec2 &p = pts[i], &q = pts[(i + 1) % pts.size()];
+    a += p.x() * q.y() - p.y() * q.x();
+  }
+  return 0.5 * a;
+}
+
 }  // namespace
+
+bool ear_clip_polygon(std::vector<Vec2> points, std::vector<std::uint32_t> ids, std::uint32_t face,
+                      std::vector<Triangle>& out) {
+  if (points.size() != ids.size() || points.size() < 3) return false;
+  // The clipper wants a counter-clockwise loop: mirror a clockwise one. Its triangles list the
+  // ids in loop order, so they keep the loop's orientation either way.
+  if (signed_area(points) < 0.0)
+    for (Vec2& p : points) p.y() = -p.y();
+  const std::size_t before = out.size();
+  if (!clip_ears(points, ids, face, out)) {
+    out.resize(before);
+    return false;
+  }
+  return true;
+}
 
 bool is_simple_face(const Complex& complex, std::uint32_t f) {
   const auto cyc = complex.face_cycle(f);
@@ -296,8 +325,13 @@ std::vector<std::vector<std::uint32_t>> section_holes(const Section& section) {
   const std::uint32_t nf = c.top_rank() >= 2 ? static_cast<std::uint32_t>(c.count(2)) : 0;
   std::vector<std::vector<std::uint32_t>> holes(nf);
   if (section.source.size() < 3 || section.source[2].size() != nf) return holes;
-  std::map<std::uint32_t, std::vector<std::uint32_t>> by_cell;
-  for (std::uint32_t f = 0; f < nf; ++f) by_cell[section.source[2][f]].push_back(f);
+  // Cell ids repeat between the objects of a scene's section: a cell is (object, cell id).
+  const bool objects = section.object_of_face.size() == nf;
+  std::map<std::uint64_t, std::vector<std::uint32_t>> by_cell;
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint64_t object = objects ? section.object_of_face[f] : 0u;
+    by_cell[object << 32 | section.source[2][f]].push_back(f);
+  }
   for (const auto& [cell, faces] : by_cell) {
     if (faces.size() < 2) continue;
     std::vector<Vec3> area;

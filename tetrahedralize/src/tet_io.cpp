@@ -1,17 +1,22 @@
 #include "cw4d/tetrahedralize/tet_io.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <vector>
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/section/hyperplane.hpp"
 
 namespace cw4d {
 
@@ -104,23 +109,103 @@ void write_pair(const std::string& first, const std::string& first_text, const s
 
 }  // namespace
 
+Eigen::Vector3d SchlegelView::project(const Eigen::Vector4d& x) const {
+  const double a = normal.dot(x - centre);
+  const double s = eye_height / (eye_height - a);  // > 0 below the eye
+  const Eigen::Vector4d e = eye();
+  return basis.transpose() * (e + s * (x - e) - centre);
+}
+
+namespace {
+
+// Height of each cell's hyperplane above the centre, n_j . (x - centre) over its corners (the
+// largest, for cells that are not quite planar); -inf for cells without tetrahedra.
+std::vector<double> cell_heights(const TetMesh& mesh, const Eigen::Vector4d& centre) {
+  std::vector<double> d(mesh.cell_count(), -std::numeric_limits<double>::infinity());
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    const std::uint32_t c = mesh.tet_cell[t];
+    const Eigen::Vector4d n = mesh.cell_normals.col(c);
+    for (int k = 0; k < 4; ++k) d[c] = std::max(d[c], n.dot(mesh.corner_position(t, k) - centre));
+  }
+  return d;
+}
+
+}  // namespace
+
+bool SchlegelView::faces_eye(const TetMesh& mesh, std::uint32_t cell) const {
+  const Eigen::Vector4d n = mesh.cell_normals.col(cell);
+  double d = -std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < mesh.size(); ++t) {
+    if (mesh.tet_cell[t] != cell) continue;
+    for (int k = 0; k < 4; ++k) d = std::max(d, n.dot(mesh.corner_position(t, k) - centre));
+  }
+  return n.dot(eye() - centre) > d;
+}
+
+SchlegelView schlegel_view(const TetMesh& mesh) {
+  if (mesh.size() == 0 || mesh.positions.cols() == 0)
+    throw InputError("Schlegel view: the tetrahedral mesh is empty");
+  SchlegelView v;
+  v.centre = mesh.positions.rowwise().mean();
+  const std::vector<double> d = cell_heights(mesh, v.centre);
+  // The front cell: largest w component of the outward normal among the cells above the centre.
+  bool found = false;
+  for (std::uint32_t c = 0; c < d.size(); ++c) {
+    if (!(d[c] > 0.0)) continue;
+    if (!found || mesh.cell_normals(3, c) > mesh.cell_normals(3, v.front_cell)) v.front_cell = c;
+    found = true;
+  }
+  if (!found) {  // no cell above the centre: take the highest one along its own normal
+    for (std::uint32_t c = 0; c < d.size(); ++c)
+      if (d[c] > d[v.front_cell]) v.front_cell = c;
+  }
+  v.normal = mesh.cell_normals.col(v.front_cell).normalized();
+  // Everything must lie below the eye.
+  double top = 0.0, radius = 0.0;
+  for (Eigen::Index i = 0; i < mesh.positions.cols(); ++i) {
+    top = std::max(top, v.normal.dot(mesh.positions.col(i) - v.centre));
+    radius = std::max(radius, (mesh.positions.col(i) - v.centre).norm());
+  }
+  top = std::max(top, 1e-6 * radius);
+  if (!(top > 0.0)) top = 1.0;
+  // The eye sees cell j from outside once h (n_j . N) > d_j: stay below the lowest such h.
+  double upper = 2.0 * top;
+  for (std::uint32_t c = 0; c < d.size(); ++c) {
+    if (c == v.front_cell || !(d[c] > 0.0)) continue;
+    const double cosine = mesh.cell_normals.col(c).dot(v.normal);
+    if (cosine > 0.0) upper = std::min(upper, d[c] / cosine);
+  }
+  v.eye_height = upper > top ? top + 0.5 * (upper - top) : 1.25 * top;
+  v.basis = hyperplane_basis(v.normal);
+  return v;
+}
+
 std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
   const std::size_t nt = mesh.size();
   std::vector<double> points, pos4, nrm4, uvw;
   std::vector<std::int64_t> connectivity, offsets;
-  std::vector<std::uint8_t> types;
+  std::vector<std::uint8_t> types, front;
   std::vector<std::int32_t> cells;
   points.reserve(12 * nt);
+  const SchlegelView view = nt ? schlegel_view(mesh) : SchlegelView{};
+  const std::vector<double> heights = cell_heights(mesh, view.centre);
   for (std::size_t t = 0; t < nt; ++t) {
     const Eigen::Vector4d n = mesh.tet_normal(t);
-    for (int k = 0; k < 4; ++k) {
+    std::array<Eigen::Vector3d, 4> p;
+    for (int k = 0; k < 4; ++k) p[k] = view.project(mesh.corner_position(t, k));
+    // Corner order with a positive 3D volume (VTK's convention for VTK_TETRA).
+    std::array<int, 4> order{0, 1, 2, 3};
+    if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) < 0.0) std::swap(order[1], order[2]);
+    const std::uint32_t c = mesh.tet_cell[t];
+    front.push_back(mesh.cell_normals.col(c).dot(view.eye() - view.centre) > heights[c] ? 1 : 0);
+    for (int k : order) {
       const Eigen::Vector4d x = mesh.corner_position(t, k);
       const Eigen::Vector3d u = mesh.corner_uvw_of(t, k);
-      for (int i = 0; i < 3; ++i) points.push_back(x(i));
+      for (int i = 0; i < 3; ++i) points.push_back(p[k](i));
       for (int i = 0; i < 4; ++i) pos4.push_back(x(i));
       for (int i = 0; i < 4; ++i) nrm4.push_back(n(i));
       for (int i = 0; i < 3; ++i) uvw.push_back(u(i));
-      connectivity.push_back(static_cast<std::int64_t>(4 * t + static_cast<std::size_t>(k)));
+      connectivity.push_back(static_cast<std::int64_t>(connectivity.size()));
     }
     offsets.push_back(static_cast<std::int64_t>(4 * (t + 1)));
     types.push_back(10);  // VTK_TETRA
@@ -129,8 +214,11 @@ std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
   std::ostringstream o;
   o << std::setprecision(17);
   o << "<?xml version=\"1.0\"?>\n"
-    << "<!-- cw4d tetrahedral mesh: 4 unshared corners per tetrahedron; point data position4, "
-       "normal4 (outward 4D normal of the source cell), uvw; cell data cell (source 3-cell) -->\n"
+    << "<!-- cw4d tetrahedral mesh: 4 unshared corners per tetrahedron; points: the Schlegel "
+       "diagram seen from "
+    << view.eye().transpose() << " (front cell " << view.front_cell
+    << "); point data position4, normal4 (outward 4D normal of the source cell), uvw; cell "
+       "data cell (source 3-cell), front (1: a cell facing the eye) -->\n"
     << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\""
     << (enc == VtuEncoding::Base64 ? " header_type=\"UInt64\"" : "") << ">\n"
     << "  <UnstructuredGrid>\n"
@@ -141,6 +229,12 @@ std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
   data_array(o, "Float64", "uvw", 3, uvw, enc);
   o << "      </PointData>\n      <CellData>\n";
   data_array(o, "Int32", "cell", 1, cells, enc);
+  if (enc == VtuEncoding::Ascii) {
+    std::vector<int> f(front.begin(), front.end());  // print numbers, not characters
+    data_array(o, "UInt8", "front", 1, f, enc);
+  } else {
+    data_array(o, "UInt8", "front", 1, front, enc);
+  }
   o << "      </CellData>\n      <Points>\n";
   data_array(o, "Float64", "Points", 3, points, enc);
   o << "      </Points>\n      <Cells>\n";

@@ -12,6 +12,7 @@
 #include <queue>
 
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/section/triangulate.hpp"
 #include "cw4d/section/uvw.hpp"
 #include "tetgen_cell.hpp"
 
@@ -120,41 +121,18 @@ bool is_convex_polygon(const std::vector<Eigen::Vector2d>& q, double& orientatio
   return true;
 }
 
-// Ear clipping of a simple polygon; triangles keep the cycle's orientation.
+// Ear clipping of a simple polygon (section/triangulate.hpp); triangles keep the cycle's
+// orientation. A face that cannot be clipped is not a simple planar polygon.
 std::vector<Tri> ear_clip(const std::vector<std::uint32_t>& cyc,
-                          const std::vector<Eigen::Vector2d>& q, double orientation,
-                          std::uint32_t face) {
-  std::vector<std::size_t> idx(cyc.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+                          const std::vector<Eigen::Vector2d>& q, std::uint32_t face) {
+  std::vector<Triangle> tris;
+  if (!ear_clip_polygon(q, cyc, face, tris))
+    throw TopologyError(
+        2, {face},
+        "face " + std::to_string(face) + " cannot be triangulated (not a simple planar polygon)");
   std::vector<Tri> out;
-  while (idx.size() > 3) {
-    bool clipped = false;
-    const std::size_t n = idx.size();
-    for (std::size_t k = 0; k < n && !clipped; ++k) {
-      const auto ia = idx[(k + n - 1) % n], ib = idx[k], ic = idx[(k + 1) % n];
-      const Eigen::Vector2d a = q[ia], b = q[ib], d = q[ic];
-      if (orientation * cross2(b - a, d - b) <= 0.0) continue;  // reflex or flat: not an ear
-      bool empty = true;
-      for (std::size_t j = 0; j < n && empty; ++j) {
-        const auto ij = idx[j];
-        if (ij == ia || ij == ib || ij == ic) continue;
-        const Eigen::Vector2d& x = q[ij];
-        const double s1 = orientation * cross2(b - a, x - a);
-        const double s2 = orientation * cross2(d - b, x - b);
-        const double s3 = orientation * cross2(a - d, x - d);
-        if (s1 >= 0.0 && s2 >= 0.0 && s3 >= 0.0) empty = false;
-      }
-      if (!empty) continue;
-      out.push_back({cyc[ia], cyc[ib], cyc[ic]});
-      idx.erase(idx.begin() + static_cast<std::ptrdiff_t>(k));
-      clipped = true;
-    }
-    if (!clipped)
-      throw TopologyError(
-          2, {face},
-          "face " + std::to_string(face) + " cannot be triangulated (not a simple planar polygon)");
-  }
-  out.push_back({cyc[idx[0]], cyc[idx[1]], cyc[idx[2]]});
+  out.reserve(tris.size());
+  for (const Triangle& t : tris) out.push_back(t.v);
   return out;
 }
 
@@ -188,7 +166,7 @@ FaceTriangulation triangulate_all(const Complex& c, const std::vector<std::uint3
         out.triangles[f].push_back({cyc[0], cyc[k], cyc[k + 1]});
     } else {
       out.convex[f] = 0;
-      out.triangles[f] = ear_clip(cyc, q, orientation, f);
+      out.triangles[f] = ear_clip(cyc, q, f);
     }
   }
   return out;

@@ -12,7 +12,9 @@
 // and one matte material (alphaMode BLEND when some color has alpha < 1). Each node of the
 // list is a top-level node of the scene; a node with one mesh holds it, a node with several
 // has one child per mesh (named after the meshes). With seconds_per_node > 0 an animation
-// "sweep" shows the top-level nodes in turn (scale 1 while shown, 0 otherwise, STEP keys).
+// "sweep" shows the top-level nodes in turn (scale 1 while shown, 0 otherwise, STEP keys), and
+// every top-level node but the first rests at scale 0, so a viewer that does not play the
+// animation shows the first layer alone.
 #include <string>
 #include <vector>
 

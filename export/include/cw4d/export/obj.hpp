@@ -1,8 +1,12 @@
 #pragma once
 // Wavefront OBJ export of 3D (or 2D, padded with z = 0) complexes such as sections. Face colors
 // (complex.colors(2), e.g. from a scene) go to a companion .mtl file: one material per distinct
-// color, "color_<k>" numbered in order of first use, with `Kd r g b` and `d opacity`.
+// color, "color_<k>" numbered in order of first use, with `Kd r g b` and `d opacity`. Kd holds
+// the colour's sRGB-encoded components as given (as hex colours and the scene file write them),
+// which is how three.js's MTLLoader reads them; Blender's importer takes them as linear, so
+// colours look lighter there. The section of a scene starts each object with `o object_<i>`.
 #include <string>
+#include <vector>
 
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/section/section.hpp"
@@ -25,6 +29,9 @@ struct ObjOptions {
   /// Texture coordinates per face corner (section_uvw of the same section): written as
   /// `vt u v w` per corner and referenced as `f v/vt/vn`. Not owned; null for none.
   const CornerUvw* uvw = nullptr;
+  /// Names of a scene's objects for the `o` lines (by object index); an object without a name
+  /// here is written as `o object_<i>`.
+  std::vector<std::string> object_names;
 };
 
 /// OBJ text of a complex's faces: `v` per vertex, `vn` per face (its facet normal, when the
@@ -44,6 +51,7 @@ std::string mtl_text(const Complex& complex);
 /// to the same path with the extension .mtl, written first (and removed again if the OBJ cannot
 /// be written); options.material_library is then set to its file name.
 /// \throw IoError, InputError.
-void write_obj_file(const std::string& path, const Section& section, const ObjOptions& options = {});
+void write_obj_file(const std::string& path, const Section& section,
+                    const ObjOptions& options = {});
 
 }  // namespace cw4d

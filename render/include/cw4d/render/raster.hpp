@@ -1,7 +1,7 @@
 #pragma once
 // The rasterizer core: triangles and lines in world space -> a linear RGBA image.
 //
-// Pipeline (seed 001 "光栅化", seed 000 "视锥体裁剪/遮挡剔除"): vertices go to clip space; a
+// Pipeline ([Tao 2024] "光栅化"; [wxyhly 2024] "视锥体裁剪/遮挡剔除"): vertices go to clip space; a
 // triangle is clipped against the six frustum planes in homogeneous coordinates *before* the
 // perspective divide (so points behind the eye never divide by w <= 0); screen positions snap
 // to 1/256 pixel and coverage is decided by exact integer edge functions with the top-left fill

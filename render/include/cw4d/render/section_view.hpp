@@ -1,6 +1,6 @@
 #pragma once
 // Pictures of 3D sections: shaded cell colors, an optional edge overlay, stereo pairs (the eye
-// shifted inside the hyperplane, seed 000 "裸眼3D"), and contact sheets of sweeps.
+// shifted inside the hyperplane, [wxyhly 2024] "裸眼3D"), and contact sheets of sweeps.
 #include <Eigen/Core>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Stereographic projection of a polytope's edges (seed 000 "球极投影"): the polytope is scaled
+// Stereographic projection of a polytope's edges ([wxyhly 2024], "球极投影"): the polytope is scaled
 // onto the unit 3-sphere about its centre (each edge becomes the great arc its points project
 // radially to), then projected from the north pole (0, 0, 0, 1) to R^3 by
 // (x, y, z, w) -> (x, y, z) / (1 - w). Edges are subdivided adaptively, so curves stay smooth

@@ -15,7 +15,7 @@ inline constexpr double occluder_convex_rel = 1e-7;
 inline constexpr double eye_facet_band_rel = 1e-12;
 
 /// Default shrink of an occluder's shadow, relative to its radius, so that edges lying on its
-/// own surface are not culled by rounding (seed 000: "待剔除面可以向内部缩进去一个很小的值").
+/// own surface are not culled by rounding ([wxyhly 2024]: "待剔除面可以向内部缩进去一个很小的值").
 inline constexpr double shadow_margin_rel = 1e-6;
 
 /// Stereographic projection: points within this of the north pole (1 - w) are not projected.

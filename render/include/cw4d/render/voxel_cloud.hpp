@@ -1,6 +1,7 @@
 #pragma once
-// Voxel clouds (seed 000 "体素云渲染", seed 004 slice stacking): many parallel sections of a
-// scene, each drawn as one layer of a 3D "voxel picture", composited back to front.
+// Voxel clouds ([wxyhly 2024] "体素云渲染"; slice stacking as in [Ikits et al. 2004]): many
+// parallel sections of a scene, each drawn as one layer of a 3D "voxel picture", composited back to
+// front.
 //
 // The volume has coordinates (u, v, s): (u, v) are the first two axes of the hyperplane basis
 // and s = n . x is the layer offset. Every layer is the section at s, seen along the third
@@ -43,6 +44,7 @@ float corrected_opacity(float alpha, double path, double reference);
 
 /// The cloud picture. \throw InputError for a scene that is not 4-dimensional, a zero normal
 ///        or a layer count outside 1..4096.
-Image render_voxel_cloud(const Scene& scene, const Eigen::VectorXd& normal, const CloudOptions& options);
+Image render_voxel_cloud(const Scene& scene, const Eigen::VectorXd& normal,
+                         const CloudOptions& options);
 
 }  // namespace cw4d::render

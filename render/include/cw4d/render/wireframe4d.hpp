@@ -1,5 +1,5 @@
 #pragma once
-// 4D wireframes with frustum clipping and occlusion culling (seed 000 "线框渲染").
+// 4D wireframes with frustum clipping and occlusion culling ([wxyhly 2024], "线框渲染").
 //
 // A 4D camera projects points to a 3D "retina" (perspective: x_i / depth); the retina cube is
 // then drawn by an ordinary 3D camera. Edges are clipped against the 4D view frustum, and each

@@ -1,6 +1,8 @@
 #pragma once
 // Triangulation of the polygons of a section (or any complex's faces): fan triangulation for
 // convex faces, ear clipping for non-convex faces and for polygons with holes.
+#include <Eigen/Core>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -25,6 +27,15 @@ std::vector<Triangle> fan_triangulate(const Complex& complex);
 /// area vector. A face without a well-defined plane (zero area) is not simple.
 bool is_simple_face(const Complex& complex, std::uint32_t f);
 
+/// Ear clipping of one weakly simple polygon given by its 2D points (`points[i]` is the position
+/// of vertex `ids[i]`), counter-clockwise or clockwise: appends k - 2 triangles in the loop's
+/// orientation, tagged with `face`, to `out`. Straight angles give zero-area triangles (the
+/// vertex stays, so neighbouring faces still share it). Returns false, leaving `out` unchanged,
+/// when the polygon cannot be clipped (it is not simple); the caller decides what that means.
+/// The one ear clipper of cw4d: the section's triangulation and the tetrahedral meshes use it.
+bool ear_clip_polygon(std::vector<Eigen::Vector2d> points, std::vector<std::uint32_t> ids,
+                      std::uint32_t face, std::vector<Triangle>& out);
+
 /// Ear-clipping triangulation of every face of a complex in R^2 or R^3 (convex or not): a simple
 /// k-gon gives k - 2 triangles with the face's orientation. The faces listed as holes of a face
 /// in `holes` (holes[f]: faces lying inside face f, in its plane, oriented against it) are
@@ -36,7 +47,8 @@ bool is_simple_face(const Complex& complex, std::uint32_t f);
 std::vector<Triangle> ear_clip_triangulate(
     const Complex& complex, const std::vector<std::vector<std::uint32_t>>& holes = {});
 
-/// The holes of a section: the faces cut from one model cell (section.source[2]) lie in one
+/// The holes of a section: the faces cut from one model cell (section.source[2], of one scene
+/// object when object_of_face is set) lie in one
 /// plane; a loop whose area vector points against the cell's outer loops is a hole, assigned to
 /// the smallest outer loop of the same cell that contains it. Result: one entry per face.
 std::vector<std::vector<std::uint32_t>> section_holes(const Section& section);
