@@ -224,6 +224,34 @@ export class Renderer {
   }
 }
 
+// The tetrahedra of a `cw4d tetrahedralize MODEL -o NAME.bin` GPU buffer (NAME.json header,
+// NAME.bin: per corner position vec4, normal vec4, uvw vec4 with the cell id in w; little
+// endian float32) in the layout of the core's tets(). palette: Float32Array of r, g, b per cell.
+export function tetsFromBuffer(header, bytes, palette) {
+  if (header.format !== 'cw4d-tet-gpu' || header.version !== 1)
+    throw new Error('not a cw4d-tet-gpu version 1 header');
+  const n = header.tetrahedra, stride = header.stride_bytes;
+  if (stride !== 48 || header.corners_per_tetrahedron !== 4 || bytes.byteLength !== n * 4 * stride)
+    throw new Error(`buffer of ${bytes.byteLength} bytes does not hold ${n} tetrahedra of 4 x 48 bytes`);
+  const f = new Float32Array(bytes.slice(0));
+  if (new Uint8Array(new Float32Array([1]).buffer)[3] !== 0x3f) throw new Error('big-endian host');
+  const corners = new Float32Array(16 * n), uvw = new Float32Array(12 * n);
+  const normals = new Float32Array(4 * n), colours = new Float32Array(3 * n);
+  const cells = new Float32Array(n);
+  for (let t = 0; t < n; ++t) {
+    for (let k = 0; k < 4; ++k) {
+      const c = 12 * (4 * t + k);
+      for (let j = 0; j < 4; ++j) corners[16 * t + 4 * k + j] = f[c + j];
+      for (let j = 0; j < 3; ++j) uvw[12 * t + 3 * k + j] = f[c + 8 + j];
+    }
+    for (let j = 0; j < 4; ++j) normals[4 * t + j] = f[48 * t + 4 + j];
+    const cell = f[48 * t + 11];
+    cells[t] = cell;
+    for (let j = 0; j < 3; ++j) colours[3 * t + j] = palette[3 * cell + j] ?? 0.8;
+  }
+  return { count: n, corners, uvw, normals, colours, cells, skippedCells: 0 };
+}
+
 // Intersection over union of two coverage masks.
 export function iou(a, b) {
   let inter = 0, union = 0, na = 0, nb = 0;

@@ -1,7 +1,7 @@
 // ?selftest=1: the page's checks, written as one JSON object into <pre id="selftest">. The
 // browser test (web/test/browser_test.py) compares the counts and volumes with the native
 // `cw4d slice` and asserts the GPU/CPU coverage agreement and the error lines.
-import { Renderer, iou } from './renderer.js';
+import { Renderer, iou, tetsFromBuffer } from './renderer.js';
 
 const ROTATION_PLANES = ['xy', 'xz', 'xw', 'yz', 'yw', 'zw'];
 
@@ -38,6 +38,14 @@ export const GPU_CASES = [
   { spec: 'duoprism:5,7', rotate: [['xw', 30]], normal: [1, 1, 0, 1], offset: 0.2 },
 ];
 
+ // The same comparison on the GPU buffers of the native `cw4d tetrahedralize SPEC -o NAME.bin`
+// (served by the browser test under ?buffers=DIR): cones, cubes split in five, a non-convex model.
+export const BUFFER_CASES = [
+  { spec: '120-cell', name: '120-cell', rotate: [['xw', 10], ['yw', 20]], normal: [0, 0, 0, 1], offset: 0.5 },
+  { spec: 'tesseract', name: 'tesseract', rotate: [['xw', 30], ['yw', 25], ['zw', 20]], normal: [0, 0, 0, 1], offset: 0.25 },
+  { spec: 'tiger:2,2,0.6,12', name: 'tiger', rotate: [['xz', 25]], normal: [0, 0, 1, 1], offset: 0.4 },
+];
+
 export const BENCH = ['120-cell', 'omnitruncated 120-cell'];
 
 async function load(core, c) {
@@ -61,8 +69,8 @@ function unit(n) {
   return n.map((x) => x / len);
 }
 
-export async function runSelftest(core, canvas) {
-  const out = { cases: [], sweep: null, gpu: [], bench: [], catalogue: [], errors: {} };
+export async function runSelftest(core, canvas, buffers = null) {
+  const out = { cases: [], sweep: null, gpu: [], buffers: [], bench: [], catalogue: [], errors: {} };
   for (const c of CASES) {
     const m = await load(core, c);
     const s = m.slice(c.normal, c.offset);
@@ -84,11 +92,11 @@ export async function runSelftest(core, canvas) {
   // Coverage of the two paths, rendered into the same 256 x 256 target with the same camera.
   const r = new Renderer(canvas);
   const target = r.target(256, 256);
-  for (const c of GPU_CASES) {
+  const compare = async (c, tetsOf, into) => {
     const m = await load(core, c);
     const info = m.info();
     const s = m.slice(c.normal, c.offset);
-    const t = m.tets();
+    const t = await tetsOf(m, info);
     if (t.error) throw new Error(`${c.spec}: ${t.error}`);
     r.setSection(s);
     r.setTets(t);
@@ -100,9 +108,26 @@ export async function runSelftest(core, canvas) {
     r.draw(view, { ...opts, gpu: true }, target);
     const gpu = r.coverage(target);
     const q = iou(cpu, gpu);
-    out.gpu.push({ spec: c.spec, tets: t.count, skippedCells: t.skippedCells, iou: q.iou,
+    into.push({ spec: c.spec, tets: t.count, skippedCells: t.skippedCells, iou: q.iou,
       cpuPixels: q.a, gpuPixels: q.b });
     m.delete();
+  };
+  for (const c of GPU_CASES) await compare(c, (m) => m.tets(), out.gpu);
+  if (buffers) {
+    for (const c of BUFFER_CASES) {
+      await compare(c, async (m, info) => {
+        const get = async (file) => {
+          const res = await fetch(`${buffers}/${file}`);
+          if (!res.ok) throw new Error(`cannot fetch ${buffers}/${file}: ${res.status}`);
+          return res;
+        };
+        const header = await (await get(`${c.name}.json`)).json();
+        const bytes = await (await get(header.buffer)).arrayBuffer();
+        if (header.cells !== info.fvector[3])
+          throw new Error(`${c.name}.json: ${header.cells} cells, the model has ${info.fvector[3]}`);
+        return tetsFromBuffer(header, bytes, core.cellPalette(header.cells));
+      }, out.buffers);
+    }
   }
   for (const spec of BENCH) {
     const m = await load(core, { spec, rotate: [] });

@@ -1,7 +1,7 @@
 // The cw4d viewer: a 4D model placed by rotations in the six coordinate planes, cut live by the
 // hyperplane n.x = d in the WebAssembly core (or on the GPU, one instance per tetrahedron), and
 // drawn with WebGL2. The view is kept in the URL so that it can be shared.
-import { Renderer } from './renderer.js';
+import { Renderer, tetsFromBuffer } from './renderer.js';
 import { runSelftest } from './selftest.js';
 
 const PLANES = ['xy', 'xz', 'xw', 'yz', 'yw', 'zw'];
@@ -58,7 +58,8 @@ export async function start(createCw4d, config = {}) {
   if (new URLSearchParams(location.search).get('selftest') === '1') {
     const pre = $('selftest');
     try {
-      const result = await runSelftest(core, canvas);
+      const result = await runSelftest(core, canvas,
+        new URLSearchParams(location.search).get('buffers'));
       pre.textContent = JSON.stringify({ ok: true, ...result });
     } catch (e) {
       pre.textContent = JSON.stringify({ ok: false, error: String(e && e.message || e) });
@@ -282,12 +283,34 @@ export async function start(createCw4d, config = {}) {
   }, { passive: false });
   window.addEventListener('resize', draw);
 
-  // Drop a .4off / .off file anywhere on the page.
+  // GPU buffers of `cw4d tetrahedralize MODEL -o NAME.bin` (NAME.json and NAME.bin dropped
+  // together) replace the GPU path's tetrahedra of the loaded model.
+  const loadBuffers = async (files) => {
+    const json = files.find((f) => f.name.endsWith('.json'));
+    const bin = files.find((f) => f.name.endsWith('.bin'));
+    try {
+      const header = JSON.parse(await json.text());
+      if (header.cells !== info.fvector[3])
+        throw new Error(`${json.name} holds ${header.cells} cells, the model has ${info.fvector[3]}`);
+      tets = tetsFromBuffer(header, await bin.arrayBuffer(), core.cellPalette(header.cells));
+      renderer.setTets(tets);
+      state.gpu = true;
+      $('gpu').checked = true;
+      status(`GPU path: ${tets.count} tetrahedra from ${bin.name}`);
+      draw();
+    } catch (err) {
+      status(`${json.name}: ${err.message}`, true);
+    }
+  };
+
+  // Drop a .4off / .off file anywhere on the page (or a .json + .bin pair, above).
   window.addEventListener('dragover', (e) => e.preventDefault());
   window.addEventListener('drop', async (e) => {
     e.preventDefault();
-    const file = e.dataTransfer.files[0];
-    if (file) loadText(await file.text(), file.name);
+    const files = [...e.dataTransfer.files];
+    if (files.some((f) => f.name.endsWith('.json')) && files.some((f) => f.name.endsWith('.bin')))
+      return loadBuffers(files);
+    if (files[0]) loadText(await files[0].text(), files[0].name);
   });
   $('file').addEventListener('change', async () => {
     const file = $('file').files[0];

@@ -570,6 +570,16 @@ val catalogue() {
   return out;
 }
 
+/// The viewer's colours of cells 0 .. count-1 (r, g, b each), for buffers made elsewhere.
+val cell_palette(double count) {
+  std::vector<float> out;
+  for (std::uint32_t c = 0; c < static_cast<std::uint32_t>(std::max(0.0, count)); ++c) {
+    const auto rgb = palette(c);
+    out.insert(out.end(), rgb.begin(), rgb.end());
+  }
+  return copy_array(out);
+}
+
 }  // namespace cw4d::web
 
 EMSCRIPTEN_BINDINGS(cw4d) {
@@ -587,4 +597,5 @@ EMSCRIPTEN_BINDINGS(cw4d) {
       .function("tets", &WebModel::tets)
       .function("planeBasis", &WebModel::plane_basis);
   emscripten::function("catalogue", &cw4d::web::catalogue);
+  emscripten::function("cellPalette", &cw4d::web::cell_palette);
 }

@@ -7,7 +7,9 @@ native cw4d command line:
   * f-vector and volume of every section of a fixed list of models, placements and planes
     (built-ins, dropped 4OFF files, a degenerate plane) equal those `cw4d slice` prints;
   * a sweep's layers equal the native slices at the same offsets;
-  * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97);
+  * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97), both with
+    the tetrahedra the WebAssembly core makes and with the GPU buffers (.json + .bin) of the
+    native `cw4d tetrahedralize`, which this test writes and serves;
   * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
   * bad input gives one-line errors;
   * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
@@ -46,8 +48,9 @@ def fail(message, fatal=True):
 class Server(http.server.ThreadingHTTPServer):
     daemon_threads = True
 
-    def __init__(self, site):
+    def __init__(self, site, generated):
         self.site = site
+        self.generated = generated
         self.result = None
         self.done = threading.Event()
         super().__init__(("127.0.0.1", 0), Handler)
@@ -56,6 +59,14 @@ class Server(http.server.ThreadingHTTPServer):
 class Handler(http.server.SimpleHTTPRequestHandler):
     def __init__(self, request, client_address, server):
         super().__init__(request, client_address, server, directory=server.site)
+
+    def translate_path(self, path):
+        # /generated/...: the files this test made (the native GPU buffers).
+        clean = path.split("?")[0].split("#")[0]
+        if clean.startswith("/generated/"):
+            name = os.path.basename(clean)
+            return os.path.join(self.server.generated, name)
+        return super().translate_path(path)
 
     def do_POST(self):
         if self.path.split("?")[0] != "/selftest-result":
@@ -79,13 +90,23 @@ def chromium_command(chromium, profile, url):
             "--enable-unsafe-swiftshader", "--window-size=1200,800", url]
 
 
-def run_page(args):
-    server = Server(os.path.abspath(args.site))
+# The native GPU buffers the page's BUFFER_CASES read (web/js/selftest.js).
+BUFFER_MODELS = {"120-cell": "120-cell", "tesseract": "tesseract", "tiger": "tiger:2,2,0.6,12"}
+
+
+def run_page(args, generated):
+    for name, spec in BUFFER_MODELS.items():
+        out = os.path.join(generated, name + ".bin")
+        run = subprocess.run([args.cw4d, "tetrahedralize", spec, "-o", out], capture_output=True,
+                             text=True)
+        if run.returncode != 0:
+            fail(f"cw4d tetrahedralize {spec} exited {run.returncode}: {run.stderr.strip()}")
+    server = Server(os.path.abspath(args.site), generated)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
     profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
     port = server.server_address[1]
-    url = f"http://127.0.0.1:{port}/index.html?selftest=1&report=1"
+    url = f"http://127.0.0.1:{port}/index.html?selftest=1&report=1&buffers=generated"
     browser = subprocess.Popen(chromium_command(args.chromium, profile, url),
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                start_new_session=True)
@@ -192,7 +213,8 @@ def main():
     args = ap.parse_args()
 
     t0 = time.monotonic()
-    page = run_page(args)
+    with tempfile.TemporaryDirectory(prefix="cw4d-buffers-") as generated:
+        page = run_page(args, generated)
     page_seconds = time.monotonic() - t0
     if not page.get("ok"):
         fail(f"the page's selftest failed: {page.get('error')}")
@@ -228,6 +250,13 @@ def main():
             fail(f"GPU path of {g['spec']}: IoU {g['iou']:.4f} with the CPU path (< 0.97)",
                  fatal=False)
 
+    if len(page["buffers"]) != len(BUFFER_MODELS):
+        fail(f"the page compared {len(page['buffers'])} native GPU buffers, not {len(BUFFER_MODELS)}")
+    for g in page["buffers"]:
+        if g["cpuPixels"] < 1000 or not g["iou"] >= 0.97:
+            fail(f"native GPU buffer of {g['spec']} ({g['tets']} tetrahedra): IoU {g['iou']:.4f}, "
+                 f"CPU pixels {g['cpuPixels']}", fatal=False)
+
     listed = subprocess.run([args.cw4d, "list"], capture_output=True, text=True, check=True)
     native_specs = {re.split(r"\s{2,}", l.strip())[0] for l in listed.stdout.splitlines() if l.strip()}
     wasm_specs = {c["spec"] for c in page["catalogue"]}
@@ -252,6 +281,8 @@ def main():
                       "ratio": b["us"] / native})
     print(f"browser_test: {checked} sections match the native CLI; GPU/CPU IoU " +
           ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["gpu"]) +
+          "; native GPU buffers " +
+          ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["buffers"]) +
           f"; unavailable in WASM: {', '.join(unavailable)}; page ran {page_seconds:.1f} s")
     for b in bench:
         print(f"browser_test: slice hot path {b['model']}: WASM {b['wasm_us']:.1f} us, native "
@@ -260,8 +291,8 @@ def main():
         sys.exit(1)
     if args.report:
         with open(args.report, "w") as f:
-            json.dump({"bench": bench, "gpu": page["gpu"], "page_seconds": page_seconds}, f,
-                      indent=2)
+            json.dump({"bench": bench, "gpu": page["gpu"], "buffers": page["buffers"],
+                       "page_seconds": page_seconds}, f, indent=2)
 
 
 if __name__ == "__main__":
