@@ -13,7 +13,8 @@ native cw4d command line:
   * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
   * bad input gives one-line errors;
   * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
-    `cw4d slice` makes of the same placed model.
+    `cw4d slice` makes of the same placed model, and bad `cw4d view` requests exit 1 with one
+    error line and no file.
 
 It also prints the slice time of the WebAssembly core beside the native `cw4d bench` figure
 for the same models (reported, not asserted: speed is measured, never a test condition).
@@ -180,6 +181,20 @@ def check_view(args, tmp):
     run = subprocess.run(cmd, capture_output=True, text=True)
     if run.returncode != 0:
         fail(f"{' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    # Bad requests: exit 1 (usage) with one error line and no file written.
+    good = {"-o": os.path.join(tmp, "bad.html"), "--normal": "0,0,0,1",
+            "--template": os.path.join(args.site, "cw4d-view.html")}
+    for bad, why in [({"--template": os.path.join(tmp, "missing.html")}, "missing"),
+                     ({"-o": os.path.join(tmp, "view.txt")}, ".html"),
+                     ({"--rotate": "xq:10"}, "xq")]:
+        opts = {**good, **bad}
+        argv = [args.cw4d, "view", "24-cell"] + [x for kv in opts.items() for x in kv]
+        r = subprocess.run(argv, capture_output=True, text=True)
+        lines = r.stderr.strip().splitlines()
+        written = os.path.exists(opts["-o"])
+        if r.returncode != 1 or len(lines) != 1 or why not in lines[0] or written:
+            fail(f"{' '.join(argv)}: exit {r.returncode}, stderr {r.stderr!r}, file written: "
+                 f"{written}", fatal=False)
     profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
     try:
         dump = subprocess.run(
