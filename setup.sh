@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # cw4d setup: installs the Debian packages the build needs, builds Release into build/, then
 #   ./setup.sh        runs the main job (a tesseract section written to out/section.obj)
-#   ./setup.sh test   runs the test suite (ctest), the Python module's tests (pytest), then the
-#                     C++ suite again under ASan+UBSan in build-asan/, then each libFuzzer
-#                     target for 60 s (build-fuzz/), and exits with the status
+#   ./setup.sh test   runs the test suite (ctest), the Python module's tests (pytest), the
+#                     browser test of the web viewer, then the C++ suite again under ASan+UBSan
+#                     in build-asan/, then each libFuzzer target for 60 s (build-fuzz/), and
+#                     exits with the status
+# Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
+# installed (CW4D_WEB=0 skips it).
 # Safe to run again: only missing packages are installed and the build is incremental.
 # Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build).
 set -euo pipefail
@@ -43,6 +46,8 @@ PACKAGES=(
   python3-scipy
   python3-matplotlib
   python3-mypy
+  emscripten
+  chromium
 )
 
 log() { printf 'cw4d: %s\n' "$*" >&2; }
@@ -216,8 +221,39 @@ run_python_tests() {
   return "$status"
 }
 
+# --- (b'') the web viewer: complex/ and section/ compiled to WebAssembly in build-web/ ----------
+# Optional: skipped (with a note) when emscripten is not installed, or with CW4D_WEB=0.
+WEB_DIR="${CW4D_WEB_DIR:-build-web}"
+web_enabled() {
+  [[ "${CW4D_WEB:-1}" != 0 ]] && command -v emcmake >/dev/null 2>&1 && command -v em++ >/dev/null 2>&1
+}
+build_web() {
+  if ! web_enabled; then
+    log "web viewer skipped (emscripten not installed, or CW4D_WEB=0)"
+    return 0
+  fi
+  # emscripten's JavaScript tools need the acorn parser of Debian's node-acorn.
+  export NODE_PATH="${NODE_PATH:+$NODE_PATH:}/usr/share/nodejs"
+  discard_stale_cache "$WEB_DIR"
+  log "configuring the web viewer (emscripten) in $WEB_DIR/"
+  emcmake cmake -S . -B "$WEB_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+  cmake --build "$WEB_DIR" -j "$JOBS" >&2
+}
+
+run_browser_test() {
+  if ! web_enabled; then
+    log "browser test skipped (no web build)"
+    return 0
+  fi
+  command -v chromium >/dev/null 2>&1 || die "chromium is missing (Debian package chromium)"
+  log "testing the web viewer in headless Chromium"
+  python3 web/test/browser_test.py --site "$WEB_DIR/web/site" --cw4d "$BUILD_DIR/apps/cw4d" \
+    --samples tests/data/miratope
+}
+
 install_missing_packages
 configure_and_build
+build_web
 
 # --- the job ------------------------------------------------------------------------------------
 if [[ "$MODE" == test ]]; then
@@ -228,6 +264,10 @@ if [[ "$MODE" == test ]]; then
   if ((status == 0)); then log "tests passed"; else log "tests FAILED (ctest exit $status)"; fi
   if ((status == 0)); then
     run_python_tests || status=$?
+  fi
+  if ((status == 0)); then
+    run_browser_test || status=$?
+    if ((status != 0)); then log "browser test FAILED"; fi
   fi
   if ((status == 0)) && [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then
     run_sanitizer_suite || status=$?
@@ -245,4 +285,9 @@ log "slicing the rotated tesseract into out/section.obj"
 if compgen -G "$BUILD_DIR/python/cw4d/_cw4d*.so" >/dev/null; then
   python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
   log "the Python module: PYTHONPATH=$BUILD_DIR/python ${python:-python3} -c 'import cw4d' (README: Python)"
+fi
+if web_enabled; then
+  log "web viewer: serve $WEB_DIR/web/site/ (python3 -m http.server -d $WEB_DIR/web/site --bind 127.0.0.1 8000)"
+  log "  and open http://127.0.0.1:8000/ ; or write one file that opens from disk:"
+  log "  $BUILD_DIR/apps/cw4d view 120-cell --normal 0,0,0,1 -o out/view.html"
 fi

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
   cli::add_bench_command(app, commands);
+  cli::add_view_command(app, commands);
 
   // "cw4d help [COMMAND]" is "cw4d [COMMAND] --help"; an unknown first word is a mistyped
   // subcommand, named as such (CLI11 would only say that a subcommand is required).

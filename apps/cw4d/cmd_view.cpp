@@ -1,0 +1,92 @@
+// cw4d view: one self-contained HTML file (the viewer of web/, its WebAssembly core and scripts
+// inlined) showing a model, to open from disk with no server.
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli.hpp"
+#include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/input_file.hpp"
+#include "cw4d/complex/off_io.hpp"
+
+#ifndef CW4D_VIEW_TEMPLATE
+#define CW4D_VIEW_TEMPLATE ""
+#endif
+
+namespace cw4d::cli {
+
+namespace {
+
+struct ViewSettings {
+  Placement placement;
+  double offset = 0.0;
+  std::string output;
+  std::string templ = CW4D_VIEW_TEMPLATE;
+};
+
+constexpr std::string_view kMarker = "/*cw4d:config*/{}";
+
+void run_view(ViewSettings& s) {
+  s.placement.parse("view");
+  const Placement& p = s.placement;
+  if (!p.scene.empty()) throw InputError("view shows one MODEL, not a --scene");
+  if (lower_extension(s.output) != ".html" && lower_extension(s.output) != ".htm")
+    throw InputError("-o: the view is an .html file, got '" + s.output + "'");
+  std::string page;
+  try {
+    page = read_input_file(s.templ);
+  } catch (const ParseError&) {
+    throw InputError("the viewer page '" + s.templ +
+                     "' is missing: build the web viewer (./setup.sh does, with emscripten) or "
+                     "give --template build-web/web/site/cw4d-view.html");
+  }
+  const std::size_t at = page.find(kMarker);
+  if (at == std::string::npos)
+    throw InputError("'" + s.templ + "' is not the viewer page (no configuration marker)");
+
+  const Input input = load_input(p);
+  if (input.dim() != 4)
+    throw InputError("view shows 4D models; '" + p.model + "' lives in R^" +
+                     std::to_string(input.dim()));
+  // The model goes in as nOFF text with its placement applied, so the page shows exactly the
+  // placed model (rotations in the order given) and needs neither the file nor the spec parser.
+  const Complex placed = transformed(*input.models().front(), p.model_to_world(4));
+  std::ostringstream off;
+  write_off(off, placed);
+  nlohmann::json config = {{"off", off.str()},
+                           {"name", p.model + p.transform_text()},
+                           {"n", join(p.normal, exact)},
+                           {"d", exact(s.offset)}};
+  std::string text = config.dump();
+  // Inside <script>, "</" could close the element: JSON allows the escaped solidus instead.
+  for (std::size_t i = text.find("</"); i != std::string::npos; i = text.find("</", i + 2))
+    text.replace(i, 2, "<\\/");
+  page.replace(at, kMarker.size(), text);
+  prepare_output_directory(s.output);
+  write_file_atomically(s.output, page);
+  std::cout << "wrote " << s.output << ": " << p.model << " (" << describe_counts(placed)
+            << "), plane n=(" << join(p.normal, brief) << "), d=" << brief(s.offset)
+            << "; open it in a browser with WebGL2\n";
+}
+
+}  // namespace
+
+void add_view_command(CLI::App& app, Commands& commands) {
+  auto s = std::make_shared<ViewSettings>();
+  auto* cmd = app.add_subcommand(
+      "view", "Write one self-contained HTML viewer of a 4D model (opens from disk).");
+  s->placement.add_options(*cmd);
+  cmd->add_option("--offset", s->offset, "Initial offset d of the plane n.x = d (default 0)")
+      ->type_name("D");
+  cmd->add_option("-o,--output", s->output, "Output .html file")->required();
+  cmd->add_option("--template", s->templ,
+                  "The viewer page to fill (default: the web build's cw4d-view.html)")
+      ->type_name("FILE");
+  cmd->footer(
+      "The page holds the model (as nOFF, placed by --rotate/--translate in the order given),\n"
+      "the WebAssembly core and the viewer; it slices live in the browser. Controls: see the\n"
+      "README. Exit codes: see 'cw4d --help'.");
+  commands.push_back({cmd, [s] { run_view(*s); }});
+}
+
+}  // namespace cw4d::cli

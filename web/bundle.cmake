@@ -1,0 +1,30 @@
+# cmake -DSITE=dir -DOUT=file -P bundle.cmake: index.html with cw4d_wasm.js (WebAssembly
+# inlined) and the viewer's ES modules inlined into one module script, in dependency order,
+# their import lines dropped and their exports made plain declarations. The configuration
+# object passed to start() is left as the marker /*cw4d:config*/{} for `cw4d view` to fill.
+file(READ ${SITE}/index.html page)
+file(READ ${SITE}/cw4d_wasm.js core)
+set(modules "")
+foreach(m shaders renderer selftest viewer)
+  file(READ ${SITE}/js/${m}.js text)
+  string(REGEX REPLACE "(^|\n)import [^\n]*;" "\\1" text "${text}")
+  string(REGEX REPLACE "(^|\n)export " "\\1" text "${text}")
+  string(APPEND modules "// --- ${m}.js\n${text}\n")
+endforeach()
+foreach(part core modules)
+  string(FIND "${${part}}" "</script" bad)
+  if(NOT bad EQUAL -1)
+    message(FATAL_ERROR "bundle.cmake: ${part} contains </script and cannot be inlined")
+  endif()
+endforeach()
+string(FIND "${page}" "<!--cw4d:core-->" a)
+string(FIND "${page}" "<!--/cw4d:viewer-->" b)
+if(a EQUAL -1 OR b EQUAL -1)
+  message(FATAL_ERROR "bundle.cmake: index.html lacks the cw4d:core / cw4d:viewer markers")
+endif()
+string(SUBSTRING "${page}" 0 ${a} head)
+string(LENGTH "<!--/cw4d:viewer-->" marker)
+math(EXPR tail_at "${b} + ${marker}")
+string(SUBSTRING "${page}" ${tail_at} -1 tail)
+file(WRITE ${OUT} "${head}<script>\n${core}\n</script>\n<script type=\"module\">\n${modules}\n"
+  "start(createCw4d, /*cw4d:config*/{});\n</script>${tail}")

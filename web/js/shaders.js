@@ -1,0 +1,155 @@
+// GLSL ES 3.00 sources of the viewer: the CPU path draws the section's triangles as the
+// WebAssembly core made them; the GPU path cuts every tetrahedron in the vertex shader.
+
+// Shared shading: a head light on the polygon's normal, the cell colour, and a procedural 3D
+// checker of the cell's UVW (each cell's own box mapping onto [0,1]^3) so the cells' texture
+// coordinates are visible. uMask draws plain white for the coverage comparison.
+export const FRAGMENT = `#version 300 es
+precision highp float;
+in vec3 vNormal;
+in vec3 vColour;
+in vec3 vUvw;
+uniform bool uCellColours;
+uniform bool uTexture;
+uniform bool uMask;
+uniform float uChecks;
+out vec4 fragColour;
+void main() {
+  if (uMask) { fragColour = vec4(1.0); return; }
+  vec3 n = normalize(vNormal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 light = normalize(vec3(0.35, 0.45, 1.0));
+  float diffuse = max(dot(n, light), 0.0);
+  vec3 base = uCellColours ? vColour : vec3(0.78, 0.80, 0.84);
+  if (uTexture) {
+    vec3 c = floor(vUvw * uChecks);
+    float parity = mod(c.x + c.y + c.z, 2.0);
+    base *= mix(0.62, 1.0, parity);
+  }
+  fragColour = vec4(base * (0.28 + 0.72 * diffuse), 1.0);
+}`;
+
+export const CPU_VERTEX = `#version 300 es
+in vec3 aPosition;
+in vec3 aNormal;
+in vec3 aColour;
+in vec3 aUvw;
+uniform mat4 uProjection;
+uniform mat4 uView;
+out vec3 vNormal;
+out vec3 vColour;
+out vec3 vUvw;
+void main() {
+  vNormal = mat3(uView) * aNormal;
+  vColour = aColour;
+  vUvw = aUvw;
+  gl_Position = uProjection * uView * vec4(aPosition, 1.0);
+}`;
+
+export const LINE_VERTEX = `#version 300 es
+in vec3 aPosition;
+uniform mat4 uProjection;
+uniform mat4 uView;
+void main() {
+  vec4 p = uProjection * uView * vec4(aPosition, 1.0);
+  p.z -= 0.0005 * p.w;  // drawn just in front of the polygons they bound
+  gl_Position = p;
+}`;
+
+export const LINE_FRAGMENT = `#version 300 es
+precision highp float;
+uniform vec4 uColour;
+out vec4 fragColour;
+void main() { fragColour = uColour; }`;
+
+// The GPU tetrahedral path: one instance per tetrahedron, its four corners (model space) and
+// their UVW as instanced attributes, six vertices per instance (two triangles). Every vertex of
+// an instance places the corners in the world (x = L p + t), takes their signed distances to
+// the plane n.x = d (a corner on the plane counts as positive, as in the CPU section), and
+// picks its point of the sign case: one corner apart -> the triangle on its three edges (the
+// second triangle collapses to a point); two and two -> the quadrilateral on the four crossing
+// edges; all on one side -> every vertex at one point (zero area, nothing drawn). Points are
+// written in the plane's basis (section coordinates, like the CPU path), and each triangle is
+// wound so that its normal agrees with the cell's outward normal projected into the plane.
+export const TET_VERTEX = `#version 300 es
+in vec4 aC0;
+in vec4 aC1;
+in vec4 aC2;
+in vec4 aC3;
+in vec3 aT0;
+in vec3 aT1;
+in vec3 aT2;
+in vec3 aT3;
+in vec4 aCellNormal;
+in vec3 aColour;
+uniform mat4 uLinear;      // placement: x_world = uLinear * x_model + uTranslation
+uniform vec4 uTranslation;
+uniform vec4 uPlaneNormal;  // unit
+uniform float uPlaneOffset;
+uniform mat4 uBasis;        // columns 0..2: the plane's orthonormal basis, column 3: zero
+uniform mat4 uProjection;
+uniform mat4 uView;
+out vec3 vNormal;
+out vec3 vColour;
+out vec3 vUvw;
+
+vec4 P[4];
+vec3 T[4];
+float S[4];
+
+vec3 toPlane(vec4 x) { return (transpose(uBasis) * (x - uPlaneOffset * uPlaneNormal)).xyz; }
+
+void crossing(int i, int j, out vec3 y, out vec3 uvw) {
+  float w = S[i] / (S[i] - S[j]);
+  y = toPlane(mix(P[i], P[j], w));
+  uvw = mix(T[i], T[j], w);
+}
+
+void main() {
+  P[0] = uLinear * aC0 + uTranslation;
+  P[1] = uLinear * aC1 + uTranslation;
+  P[2] = uLinear * aC2 + uTranslation;
+  P[3] = uLinear * aC3 + uTranslation;
+  T[0] = aT0; T[1] = aT1; T[2] = aT2; T[3] = aT3;
+  int up[4];
+  int down[4];
+  int nUp = 0, nDown = 0;
+  for (int i = 0; i < 4; ++i) {
+    S[i] = dot(uPlaneNormal, P[i]) - uPlaneOffset;
+    if (S[i] >= 0.0) up[nUp++] = i; else down[nDown++] = i;
+  }
+  vec3 q[4];
+  vec3 t[4];
+  int corners = 0;
+  if (nUp == 1 || nUp == 3) {
+    int lone = nUp == 1 ? up[0] : down[0];
+    int k = 0;
+    for (int i = 0; i < 4; ++i)
+      if (i != lone) { crossing(lone, i, q[k], t[k]); ++k; }
+    q[3] = q[2]; t[3] = t[2];
+    corners = 3;
+  } else if (nUp == 2) {
+    crossing(up[0], down[0], q[0], t[0]);
+    crossing(up[0], down[1], q[1], t[1]);
+    crossing(up[1], down[1], q[2], t[2]);
+    crossing(up[1], down[0], q[3], t[3]);
+    corners = 4;
+  }
+  // The cell's normal (a direction: no translation) projected into the plane's basis.
+  vec3 cellNormal = (transpose(uBasis) * (uLinear * aCellNormal)).xyz;
+  vColour = aColour;
+  vNormal = mat3(uView) * normalize(cellNormal);
+  if (corners == 0) {
+    vUvw = vec3(0.0);
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // every vertex here: a zero-area triangle
+    return;
+  }
+  // Triangles (0,1,2) and (0,2,3); for a triangle case the second one is (q0,q2,q2).
+  int order[6] = int[6](0, 1, 2, 0, 2, 3);
+  bool flip = dot(cross(q[1] - q[0], q[2] - q[0]), cellNormal) < 0.0;
+  int v = gl_VertexID;
+  if (flip) v = v == 1 ? 2 : (v == 2 ? 1 : (v == 4 ? 5 : (v == 5 ? 4 : v)));
+  int c = order[v];
+  vUvw = t[c];
+  gl_Position = uProjection * uView * vec4(q[c], 1.0);
+}`;

@@ -1,0 +1,601 @@
+// The JavaScript interface of the WebAssembly core (embind): models from a spec or 4OFF text,
+// the catalogue, a 4D placement, slices and sweeps as typed arrays, and the tetrahedra of the
+// convex cells for the GPU path. Everything goes through the public API of complex/ and
+// section/; errors come back as {error: "one line"} objects, never as aborts.
+#include <emscripten/bind.h>
+#include <emscripten/val.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/complex.hpp"
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/complex/validate.hpp"
+#include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
+#include "cw4d/section/triangulate.hpp"
+#include "cw4d/section/uvw.hpp"
+
+namespace cw4d::web {
+
+using emscripten::val;
+
+namespace {
+
+// Typed-array copies of C++ vectors (the views into the wasm heap would die with the vectors).
+template <class T>
+val copy_array(const std::vector<T>& v) {
+  return val(emscripten::typed_memory_view(v.size(), v.data())).call<val>("slice");
+}
+
+val error_object(const std::string& message) {
+  val out = val::object();
+  std::string line = message;
+  std::replace(line.begin(), line.end(), '\n', ' ');
+  out.set("error", line);
+  return out;
+}
+
+val fvector_array(const Complex& c) {
+  val out = val::array();
+  for (std::size_t n : c.fvector()) out.call<void>("push", static_cast<double>(n));
+  return out;
+}
+
+// A colour per cell when the model has none: hues spaced by the golden angle, so neighbouring
+// ids differ (sRGB components in [0, 1]).
+std::array<float, 3> palette(std::uint32_t cell) {
+  const double h = std::fmod(static_cast<double>(cell) * 0.6180339887498949, 1.0) * 6.0;
+  const double s = 0.55, v = 0.92;
+  const int i = static_cast<int>(h);
+  const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  double r = v, g = t, b = p;
+  switch (i % 6) {
+    case 0:
+      r = v, g = t, b = p;
+      break;
+    case 1:
+      r = q, g = v, b = p;
+      break;
+    case 2:
+      r = p, g = v, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = v;
+      break;
+    case 4:
+      r = t, g = p, b = v;
+      break;
+    default:
+      r = v, g = p, b = q;
+      break;
+  }
+  return {static_cast<float>(r), static_cast<float>(g), static_cast<float>(b)};
+}
+
+// The families that need CGAL (the tetrahedralize/ library), which the WebAssembly build does
+// not link: listed so that the catalogue shows them, marked as unavailable. The browser test
+// checks this list against the native `cw4d list`.
+const std::vector<BuiltinInfo>& cgal_families() {
+  static const std::vector<BuiltinInfo> list = {
+      {"hull:FILE", "convex hull of the points in FILE"},
+      {"snub cube", "snub cube s4s3s"},
+      {"snub dodecahedron", "snub dodecahedron s5s3s"},
+      {"snub 24-cell", "snub 24-cell s3s4o3o"},
+      {"grand antiprism", "grand antiprism"},
+      {"glome:R,N", "convex polytope inscribed in the 3-sphere"},
+  };
+  return list;
+}
+
+std::vector<double> to_doubles(const val& array) {
+  return emscripten::vecFromJSArray<double>(array);
+}
+
+// The equal-probability planes of `cw4d bench` (apps/cw4d/cmd_bench.cpp): std::mt19937 seeded
+// 20240401, normals from a standard normal distribution, offsets uniform in (-0.9, 0.9) times
+// the radius. std::mt19937 is fully specified by the standard, the distributions are not, so
+// both are written out as GNU libstdc++ implements them (generate_canonical with two 32-bit
+// draws; the Marsaglia polar method, its second value kept for the next call).
+class BenchPlanes {
+ public:
+  explicit BenchPlanes(std::uint32_t seed) : rng_(seed) {}
+  double canonical() {
+    const double lo = static_cast<double>(rng_() - std::mt19937::min());
+    const double hi = static_cast<double>(rng_() - std::mt19937::min());
+    const double r = 4294967296.0;
+    double x = (lo + hi * r) / (r * r);
+    if (x >= 1.0) x = std::nextafter(1.0, 0.0);
+    return x;
+  }
+  double normal() {
+    if (saved_) {
+      saved_ = false;
+      return saved_value_;
+    }
+    double x, y, r2;
+    do {
+      x = 2.0 * canonical() - 1.0;
+      y = 2.0 * canonical() - 1.0;
+      r2 = x * x + y * y;
+    } while (r2 > 1.0 || r2 == 0.0);
+    const double mult = std::sqrt(-2.0 * std::log(r2) / r2);
+    saved_value_ = x * mult;
+    saved_ = true;
+    return y * mult;
+  }
+  double uniform(double a, double b) { return (b - a) * canonical() + a; }
+
+ private:
+  std::mt19937 rng_;
+  bool saved_ = false;
+  double saved_value_ = 0.0;
+};
+
+}  // namespace
+
+/// A loaded model with its placement and the compiled slicer state.
+class WebModel {
+ public:
+  WebModel() = default;
+
+  /// Loads a catalogue spec; returns "" or the error line.
+  std::string load_spec(const std::string& spec) {
+    try {
+      return adopt(load_model(spec), spec);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  /// Loads nOFF text (a dropped .4off file); `name` names it in messages.
+  std::string load_off(const std::string& text, const std::string& name) {
+    try {
+      std::istringstream in(text);
+      return adopt(read_off(in, name), name);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+
+  val info() const {
+    val out = val::object();
+    if (!model_) return error_object("no model loaded");
+    out.set("name", name_);
+    out.set("dim", model_->ambient_dim());
+    out.set("fvector", fvector_array(*model_));
+    out.set("radius", compiled_->radius());
+    out.set("fast", compiled_->fast());
+    return out;
+  }
+
+  /// rotations: [[plane, degrees], ...] applied in order (plane "xw" etc.); translation: n
+  /// numbers or []. x_world = R_k ... R_1 x_model + t, as the CLI's --rotate/--translate.
+  std::string set_placement(const val& rotations, const val& translation) {
+    try {
+      if (!model_) return "no model loaded";
+      const int n = model_->ambient_dim();
+      AffineTransform m = AffineTransform::identity(n);
+      const int count = rotations["length"].as<int>();
+      for (int i = 0; i < count; ++i) {
+        const val r = rotations[i];
+        const auto [a, b] = parse_rotation_plane(r[0].as<std::string>());
+        if (a >= n || b >= n)
+          return "rotation plane " + r[0].as<std::string>() + " needs a 4D model";
+        const double deg = r[1].as<double>();
+        if (!std::isfinite(deg)) return "rotation angle is not finite";
+        m = AffineTransform::rotation(n, a, b, deg * std::numbers::pi / 180.0) * m;
+      }
+      const std::vector<double> t = to_doubles(translation);
+      if (!t.empty()) {
+        if (static_cast<int>(t.size()) != n)
+          return "translation needs " + std::to_string(n) + " components";
+        m = AffineTransform::translation(Eigen::Map<const Eigen::VectorXd>(t.data(), n)) * m;
+      }
+      placement_ = m;
+      inverse_ = m.inverse();
+      return "";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+
+  /// The placement for the GPU: linear part column-major (n*n) then the translation (n).
+  val placement() const {
+    std::vector<float> out;
+    for (int c = 0; c < placement_.dim(); ++c)
+      for (int r = 0; r < placement_.dim(); ++r)
+        out.push_back(static_cast<float>(placement_.linear()(r, c)));
+    for (int r = 0; r < placement_.dim(); ++r)
+      out.push_back(static_cast<float>(placement_.translation()[r]));
+    return copy_array(out);
+  }
+
+  /// The section by the world-space plane normal . x = offset (normal normalised).
+  val slice(const val& normal_js, double offset) {
+    try {
+      if (!model_) return error_object("no model loaded");
+      const Hyperplane plane = make_plane(normal_js, offset);
+      const auto t0 = std::chrono::steady_clock::now();
+      slicer_.slice(*compiled_, plane, placement_, buffers_);
+      const auto t1 = std::chrono::steady_clock::now();
+      const Section sec = to_section(buffers_);
+      val out = describe(sec);
+      out.set("sliceMs", std::chrono::duration<double, std::milli>(t1 - t0).count());
+      out.set("general", buffers_.general);
+      if (sec.empty()) return out;
+      add_mesh(sec, out);
+      return out;
+    } catch (const std::exception& e) {
+      return error_object(e.what());
+    }
+  }
+
+  /// Counts and volume of each of the planes normal . x = offsets[i], in one sweep.
+  val sweep(const val& normal_js, const val& offsets_js) {
+    try {
+      if (!model_) return error_object("no model loaded");
+      const std::vector<double> nv = to_doubles(normal_js);
+      const std::vector<double> offsets = to_doubles(offsets_js);
+      check_dim(nv.size());
+      std::vector<SliceBuffers> layers;
+      slicer_.sweep(*compiled_, Eigen::Map<const Eigen::VectorXd>(nv.data(), nv.size()), offsets,
+                    placement_, layers, 1);
+      val out = val::array();
+      for (const SliceBuffers& b : layers) out.call<void>("push", describe(to_section(b)));
+      return out;
+    } catch (const std::exception& e) {
+      return error_object(e.what());
+    }
+  }
+
+  /// Microseconds per Slicer::slice over the 256 planes of `cw4d bench` (unplaced model, one
+  /// thread, reused buffers, median of five rounds), to set beside the native figure.
+  val bench_hot_path(double seconds) {
+    try {
+      if (!model_) return error_object("no model loaded");
+      if (model_->ambient_dim() != 4) return error_object("bench needs a 4D model");
+      const SliceModel compiled(*model_, SliceModelOptions::unclustered());
+      BenchPlanes gen(20240401u);
+      std::vector<Hyperplane> planes;
+      for (int i = 0; i < 256; ++i) {
+        Eigen::VectorXd n(4);
+        for (int j = 0; j < 4; ++j) n[j] = gen.normal();
+        planes.push_back(Hyperplane::from(n, gen.uniform(-0.9, 0.9) * compiled.radius()));
+      }
+      Slicer slicer;
+      SliceBuffers out;
+      double triangles = 0;
+      for (const auto& p : planes) {
+        slicer.slice(compiled, p, out);
+        triangles += static_cast<double>(out.fan_triangles());
+      }
+      std::size_t next = 0;
+      std::vector<double> rounds;
+      for (int r = 0; r < 5; ++r) {
+        slicer.slice(compiled, planes[next++ % planes.size()], out);  // warm
+        std::size_t calls = 0;
+        const auto t0 = std::chrono::steady_clock::now();
+        double elapsed = 0;
+        do {
+          slicer.slice(compiled, planes[next++ % planes.size()], out);
+          ++calls;
+          elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        } while (elapsed < seconds / 5);
+        rounds.push_back(elapsed / static_cast<double>(calls));
+      }
+      std::sort(rounds.begin(), rounds.end());
+      val res = val::object();
+      res.set("us", rounds[2] * 1e6);
+      res.set("triangles", triangles / static_cast<double>(planes.size()));
+      return res;
+    } catch (const std::exception& e) {
+      return error_object(e.what());
+    }
+  }
+
+  /// Tetrahedra of the convex cells (each coned from its vertex centroid over the fan
+  /// triangles of its faces), in model space, for the GPU path: per tetrahedron four corners
+  /// (4 x 4 floats), their UVW (4 x 3, the cell's texture map of section/uvw.hpp), the cell's
+  /// outward unit normal (4) and the cell id. Non-convex cells are counted in skippedCells.
+  val tets() const {
+    try {
+      if (!model_) return error_object("no model loaded");
+      if (model_->ambient_dim() != 4 || model_->top_rank() < 3)
+        return error_object("the GPU path needs a 4D model with cells");
+      const Complex& m = *model_;
+      const auto maps = facet_texture_maps(m);
+      const Eigen::MatrixXd& normals = m.facet_normals();
+      std::vector<float> corners, uvw, cell_normal, cell_id, colour;
+      std::size_t skipped = 0;
+      const auto& colours = m.colors(3);
+      for (std::uint32_t c = 0; c < m.count(3); ++c) {
+        const std::vector<std::uint32_t> verts = m.vertices_of(3, c);
+        Eigen::Vector4d centre = Eigen::Vector4d::Zero();
+        for (auto v : verts) centre += m.position(v);
+        centre /= static_cast<double>(verts.size());
+        std::vector<std::array<std::uint32_t, 3>> triangles;
+        bool convex = true;
+        const auto faces = m.boundary(3).ids(c);
+        const auto signs = m.boundary(3).signs(c);
+        const Eigen::Vector4d n = normals.col(c);
+        const double scale = max_radius(m);
+        for (std::size_t k = 0; k < faces.size() && convex; ++k) {
+          std::vector<std::uint32_t> cyc = m.face_cycle(faces[k]);
+          if (signs[k] < 0) std::reverse(cyc.begin(), cyc.end());
+          // The face's plane inside the cell's hyperplane has the normal cross(n, e1, e2), e1
+          // and e2 spanning the face; the cell is convex when every face is a supporting plane
+          // (all cell vertices on one side).
+          Eigen::MatrixXd u(4, 3);
+          u.col(0) = n;
+          const Eigen::Vector4d p0 = m.position(cyc[0]);
+          Eigen::Vector4d e1 = Eigen::Vector4d::Zero(), e2 = Eigen::Vector4d::Zero();
+          // e1, e2: the fan triangle of largest area (a well-conditioned span).
+          double best = 0;
+          for (std::size_t i = 1; i + 1 < cyc.size(); ++i) {
+            const Eigen::Vector4d a = m.position(cyc[i]) - p0, b = m.position(cyc[i + 1]) - p0;
+            const double area2 = a.squaredNorm() * b.squaredNorm() - a.dot(b) * a.dot(b);
+            if (area2 > best) best = area2, e1 = a, e2 = b;
+          }
+          if (!(best > 0)) {
+            convex = false;
+            break;
+          }
+          u.col(1) = e1;
+          u.col(2) = e2;
+          Eigen::VectorXd fn = generalized_cross(u);
+          const double len = fn.norm();
+          if (!(len > 0)) {
+            convex = false;
+            break;
+          }
+          fn /= len;
+          const double tol = 1e-9 * scale;
+          double lo = 0, hi = 0;
+          for (auto v : verts) {
+            const double s = fn.dot(m.position(v) - p0);
+            lo = std::min(lo, s), hi = std::max(hi, s);
+          }
+          if (lo < -tol && hi > tol) convex = false;
+          // The face itself must be convex for its fan: every turn of its cycle the same way
+          // round fn inside the cell's hyperplane.
+          double turn_lo = 0, turn_hi = 0;
+          for (std::size_t i = 0; i < cyc.size(); ++i) {
+            Eigen::MatrixXd w(4, 3);
+            w.col(0) = n;
+            w.col(1) = m.position(cyc[(i + 1) % cyc.size()]) - m.position(cyc[i]);
+            w.col(2) =
+                m.position(cyc[(i + 2) % cyc.size()]) - m.position(cyc[(i + 1) % cyc.size()]);
+            const double turn = generalized_cross(w).dot(fn);
+            turn_lo = std::min(turn_lo, turn), turn_hi = std::max(turn_hi, turn);
+          }
+          if (turn_lo < -tol * scale && turn_hi > tol * scale) convex = false;
+          if (!convex) break;
+          for (std::size_t i = 1; i + 1 < cyc.size(); ++i)
+            triangles.push_back({cyc[0], cyc[i], cyc[i + 1]});
+        }
+        if (!convex) {
+          ++skipped;
+          continue;
+        }
+        const std::array<float, 3> rgb =
+            colours.empty() ? palette(c)
+                            : std::array<float, 3>{colours[c].r, colours[c].g, colours[c].b};
+        const auto push_corner = [&](const Eigen::Vector4d& p) {
+          for (int j = 0; j < 4; ++j) corners.push_back(static_cast<float>(p[j]));
+          const Eigen::VectorXd t = maps[c](p);
+          for (int j = 0; j < 3; ++j) uvw.push_back(static_cast<float>(t[j]));
+        };
+        for (const auto& tri : triangles) {
+          push_corner(centre);
+          for (auto v : tri) push_corner(m.position(v));
+          for (int j = 0; j < 4; ++j) cell_normal.push_back(static_cast<float>(n[j]));
+          cell_id.push_back(static_cast<float>(c));
+          for (int j = 0; j < 3; ++j) colour.push_back(rgb[static_cast<std::size_t>(j)]);
+        }
+      }
+      val out = val::object();
+      out.set("count", static_cast<double>(cell_id.size()));
+      out.set("corners", copy_array(corners));
+      out.set("uvw", copy_array(uvw));
+      out.set("normals", copy_array(cell_normal));
+      out.set("cells", copy_array(cell_id));
+      out.set("colours", copy_array(colour));
+      out.set("skippedCells", static_cast<double>(skipped));
+      return out;
+    } catch (const std::exception& e) {
+      return error_object(e.what());
+    }
+  }
+
+  /// The orthonormal basis (n x (n-1), column-major) of the plane with this normal, in which
+  /// section coordinates are written (hyperplane_basis).
+  val plane_basis(const val& normal_js) const {
+    try {
+      const Hyperplane plane = make_plane(normal_js, 0.0);
+      const Eigen::MatrixXd b = hyperplane_basis(plane.normal);
+      std::vector<float> out(b.data(), b.data() + b.size());
+      return copy_array(out);
+    } catch (const std::exception& e) {
+      return error_object(e.what());
+    }
+  }
+
+ private:
+  std::string adopt(Complex model, const std::string& name) {
+    const ValidationReport report = validate(model);
+    if (!report.ok()) return name + ": not a valid complex: " + report.summary(1);
+    if (model.ambient_dim() < 3 || model.ambient_dim() > 4)
+      return name + " lives in R^" + std::to_string(model.ambient_dim()) +
+             "; the viewer shows 3D sections of 4D models (and 2D ones of 3D models)";
+    compiled_.reset();
+    model_ = std::make_unique<Complex>(std::move(model));
+    compiled_ = std::make_unique<SliceModel>(*model_);
+    maps_ =
+        model_->has_facet_normals() ? facet_texture_maps(*model_) : std::vector<FacetTextureMap>{};
+    placement_ = AffineTransform::identity(model_->ambient_dim());
+    inverse_ = placement_;
+    buffers_ = SliceBuffers{};
+    name_ = name;
+    return "";
+  }
+
+  void check_dim(std::size_t n) const {
+    if (static_cast<int>(n) != model_->ambient_dim())
+      throw InputError("the normal needs " + std::to_string(model_->ambient_dim()) +
+                       " components, got " + std::to_string(n));
+  }
+
+  Hyperplane make_plane(const val& normal_js, double offset) const {
+    const std::vector<double> nv = to_doubles(normal_js);
+    if (model_) check_dim(nv.size());
+    return Hyperplane::from(Eigen::Map<const Eigen::VectorXd>(nv.data(), nv.size()), offset);
+  }
+
+  static val describe(const Section& sec) {
+    val out = val::object();
+    out.set("fvector", fvector_array(sec.complex));
+    out.set("volume", sec.empty() ? 0.0 : signed_volume(sec.complex));
+    out.set("selfIntersecting", sec.self_intersecting);
+    return out;
+  }
+
+  // Triangles of the polygons (ear clipping with holes, as the exporters), one corner per
+  // polygon and vertex so that normals, colours and UVW stay per polygon; the outline is every
+  // section edge once.
+  void add_mesh(const Section& sec, val& out) const {
+    const Complex& c = sec.complex;
+    const int n = c.ambient_dim();  // 3 for a 4D model (2 for a 3D one: padded with z = 0)
+    const std::vector<Triangle> tris = triangulate_section(sec);
+    const auto& model_colours = model_->colors(model_->ambient_dim() - 1);
+    std::vector<float> pos, nor, col, uvw;
+    std::vector<std::uint32_t> cell, index;
+    std::unordered_map<std::uint32_t, std::uint32_t> corner;  // vertex -> corner, per face
+    std::uint32_t face = static_cast<std::uint32_t>(-1);
+    const bool has_normals = c.has_facet_normals() && n == 3;
+    for (const Triangle& t : tris) {
+      if (t.face != face) corner.clear(), face = t.face;
+      const std::uint32_t src = sec.source.size() > 2 && !sec.source[2].empty()
+                                    ? sec.source[2][t.face]
+                                    : (sec.source.size() > 1 ? sec.source[1][t.face] : 0);
+      for (std::uint32_t v : t.v) {
+        auto [it, fresh] = corner.try_emplace(v, static_cast<std::uint32_t>(cell.size()));
+        if (fresh) {
+          for (int j = 0; j < 3; ++j)
+            pos.push_back(j < n ? static_cast<float>(c.position(v)[j]) : 0.0f);
+          for (int j = 0; j < 3; ++j)
+            nor.push_back(has_normals ? static_cast<float>(c.facet_normals()(j, t.face))
+                                      : (j == 2 ? 1.0f : 0.0f));
+          const std::array<float, 3> rgb =
+              model_colours.empty()
+                  ? palette(src)
+                  : std::array<float, 3>{model_colours[src].r, model_colours[src].g,
+                                         model_colours[src].b};
+          col.insert(col.end(), rgb.begin(), rgb.end());
+          if (!maps_.empty() && src < maps_.size()) {
+            const Eigen::VectorXd x = inverse_.apply(sec.world_position(v));
+            const Eigen::VectorXd w = maps_[src](x);
+            for (int j = 0; j < 3; ++j) uvw.push_back(j < w.size() ? static_cast<float>(w[j]) : 0);
+          } else {
+            uvw.insert(uvw.end(), {0.0f, 0.0f, 0.0f});
+          }
+          cell.push_back(src);
+        }
+        index.push_back(it->second);
+      }
+    }
+    std::vector<float> outline;
+    for (std::uint32_t e = 0; e < c.count(1); ++e) {
+      const auto ids = c.edge(e);
+      for (auto v : {ids[0], ids[1]})
+        for (int j = 0; j < 3; ++j)
+          outline.push_back(j < n ? static_cast<float>(c.position(v)[j]) : 0.0f);
+    }
+    out.set("positions", copy_array(pos));
+    out.set("normals", copy_array(nor));
+    out.set("colours", copy_array(col));
+    out.set("uvw", copy_array(uvw));
+    out.set("cells", copy_array(cell));
+    out.set("indices", copy_array(index));
+    out.set("outline", copy_array(outline));
+  }
+
+  std::unique_ptr<Complex> model_;
+  std::unique_ptr<SliceModel> compiled_;
+  std::vector<FacetTextureMap> maps_;
+  AffineTransform placement_{4}, inverse_{4};
+  Slicer slicer_;
+  SliceBuffers buffers_;
+  std::string name_;
+};
+
+/// The catalogue: [{spec, description, available, reason}], the built-in families first, then
+/// the CGAL ones this build does not include.
+val catalogue() {
+  val out = val::array();
+  for (const BuiltinInfo& b : builtin_list()) {
+    val e = val::object();
+    e.set("spec", b.spec);
+    e.set("description", b.description);
+    // extrude: and spin: read their polyhedron through OpenMesh (mesh_import_unavailable.cpp).
+    const bool mesh_file = b.spec.starts_with("extrude:") || b.spec.starts_with("spin:");
+    e.set("available", !mesh_file);
+    if (mesh_file)
+      e.set("reason", std::string("reads OBJ/OFF/PLY/STL through OpenMesh, not in the "
+                                  "WebAssembly build"));
+    out.call<void>("push", e);
+  }
+  for (const BuiltinInfo& b : cgal_families()) {
+    val e = val::object();
+    e.set("spec", b.spec);
+    e.set("description", b.description);
+    e.set("available", false);
+    e.set("reason", std::string("needs CGAL (convex hulls), not in the WebAssembly build"));
+    out.call<void>("push", e);
+  }
+  return out;
+}
+
+/// The viewer's colours of cells 0 .. count-1 (r, g, b each), for buffers made elsewhere.
+val cell_palette(double count) {
+  std::vector<float> out;
+  for (std::uint32_t c = 0; c < static_cast<std::uint32_t>(std::max(0.0, count)); ++c) {
+    const auto rgb = palette(c);
+    out.insert(out.end(), rgb.begin(), rgb.end());
+  }
+  return copy_array(out);
+}
+
+}  // namespace cw4d::web
+
+EMSCRIPTEN_BINDINGS(cw4d) {
+  using cw4d::web::WebModel;
+  emscripten::class_<WebModel>("Model")
+      .constructor<>()
+      .function("loadSpec", &WebModel::load_spec)
+      .function("loadOff", &WebModel::load_off)
+      .function("info", &WebModel::info)
+      .function("setPlacement", &WebModel::set_placement)
+      .function("placement", &WebModel::placement)
+      .function("slice", &WebModel::slice)
+      .function("sweep", &WebModel::sweep)
+      .function("benchHotPath", &WebModel::bench_hot_path)
+      .function("tets", &WebModel::tets)
+      .function("planeBasis", &WebModel::plane_basis);
+  emscripten::function("catalogue", &cw4d::web::catalogue);
+  emscripten::function("cellPalette", &cw4d::web::cell_palette);
+}

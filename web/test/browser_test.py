@@ -1,0 +1,314 @@
+#!/usr/bin/env python3
+"""The viewer in a real browser: headless Chromium (SwiftShader WebGL2) opens the page with
+?selftest=1 from a server on 127.0.0.1 that this test starts and stops itself; the page's JSON
+(the one it writes into <pre id="selftest">, posted back to the server) is checked against the
+native cw4d command line:
+
+  * f-vector and volume of every section of a fixed list of models, placements and planes
+    (built-ins, dropped 4OFF files, a degenerate plane) equal those `cw4d slice` prints;
+  * a sweep's layers equal the native slices at the same offsets;
+  * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97), both with
+    the tetrahedra the WebAssembly core makes and with the GPU buffers (.json + .bin) of the
+    native `cw4d tetrahedralize`, which this test writes and serves;
+  * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
+  * bad input gives one-line errors;
+  * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
+    `cw4d slice` makes of the same placed model, and bad `cw4d view` requests exit 1 with one
+    error line and no file.
+
+It also prints the slice time of the WebAssembly core beside the native `cw4d bench` figure
+for the same models (reported, not asserted: speed is measured, never a test condition).
+
+usage: browser_test.py --site build-web/web/site --cw4d build/apps/cw4d
+                       --samples tests/data/miratope [--report out.json]
+"""
+import argparse
+import http.server
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+
+FAILURES = []
+
+
+def fail(message, fatal=True):
+    print(f"browser_test: FAIL: {message}", file=sys.stderr)
+    FAILURES.append(message)
+    if fatal:
+        sys.exit(1)
+
+
+class Server(http.server.ThreadingHTTPServer):
+    daemon_threads = True
+
+    def __init__(self, site, generated):
+        self.site = site
+        self.generated = generated
+        self.result = None
+        self.done = threading.Event()
+        super().__init__(("127.0.0.1", 0), Handler)
+
+
+class Handler(http.server.SimpleHTTPRequestHandler):
+    def __init__(self, request, client_address, server):
+        super().__init__(request, client_address, server, directory=server.site)
+
+    def translate_path(self, path):
+        # /generated/...: the files this test made (the native GPU buffers).
+        clean = path.split("?")[0].split("#")[0]
+        if clean.startswith("/generated/"):
+            name = os.path.basename(clean)
+            return os.path.join(self.server.generated, name)
+        return super().translate_path(path)
+
+    def do_POST(self):
+        if self.path.split("?")[0] != "/selftest-result":
+            self.send_error(404)
+            return
+        length = int(self.headers.get("Content-Length", "0"))
+        self.server.result = self.rfile.read(length).decode("utf-8")
+        self.send_response(204)
+        self.end_headers()
+        self.server.done.set()
+
+    def log_message(self, *args):
+        pass
+
+
+def chromium_command(chromium, profile, url):
+    return [chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+            "--no-first-run", "--disable-background-networking", "--disable-component-update",
+            "--disable-sync", "--disable-extensions", "--mute-audio",
+            f"--user-data-dir={profile}", "--use-gl=angle", "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader", "--window-size=1200,800", url]
+
+
+# The native GPU buffers the page's BUFFER_CASES read (web/js/selftest.js).
+BUFFER_MODELS = {"120-cell": "120-cell", "tesseract": "tesseract", "tiger": "tiger:2,2,0.6,12"}
+
+
+def run_page(args, generated):
+    for name, spec in BUFFER_MODELS.items():
+        out = os.path.join(generated, name + ".bin")
+        run = subprocess.run([args.cw4d, "tetrahedralize", spec, "-o", out], capture_output=True,
+                             text=True)
+        if run.returncode != 0:
+            fail(f"cw4d tetrahedralize {spec} exited {run.returncode}: {run.stderr.strip()}")
+    server = Server(os.path.abspath(args.site), generated)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
+    port = server.server_address[1]
+    url = f"http://127.0.0.1:{port}/index.html?selftest=1&report=1&buffers=generated"
+    browser = subprocess.Popen(chromium_command(args.chromium, profile, url),
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                               start_new_session=True)
+    try:
+        if not server.done.wait(args.timeout):
+            fail(f"the page posted no result within {args.timeout} s")
+    finally:
+        try:
+            os.killpg(browser.pid, signal.SIGTERM)
+            browser.wait(20)
+        except (ProcessLookupError, subprocess.TimeoutExpired):
+            os.killpg(browser.pid, signal.SIGKILL)
+            browser.wait()
+        server.shutdown()
+        server.server_close()
+        shutil.rmtree(profile, ignore_errors=True)
+    return json.loads(server.result)
+
+
+COUNT = re.compile(r"(\d+) (vertex|vertices|edges?|faces?|cells?|rank-\d+ elements?)")
+
+
+def native_slice(args, tmp, case, offset):
+    model = case["spec"]
+    if case.get("file"):
+        name = os.path.basename(case["file"])
+        found = [os.path.join(d, name) for d, _, files in os.walk(args.samples) if name in files]
+        if len(found) != 1:
+            fail(f"{name}: expected one copy under {args.samples}, found {found}")
+        model = found[0]
+    cmd = [args.cw4d, "slice", model, "--normal", ",".join(repr(float(x)) for x in case["normal"]),
+           "--offset", repr(float(offset)), "-o", os.path.join(tmp, "section.obj")]
+    for plane, deg in case["rotate"]:
+        cmd += ["--rotate", f"{plane}:{deg!r}"]
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    if run.returncode != 0:
+        fail(f"{' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    line = run.stdout.strip().splitlines()[0]
+    head = line.split(": ", 1)[1]
+    counts = [int(n) for n, _ in COUNT.findall(head.split(", volume")[0])]
+    volume = float(re.search(r"volume (\S+)", head).group(1))
+    return counts, volume, line
+
+
+def close(a, b):
+    # `cw4d slice` prints the volume with six significant digits.
+    return abs(a - b) <= 1e-5 * max(abs(b), 1e-9) + 1e-12
+
+
+def native_bench_us(args, model):
+    run = subprocess.run([args.cw4d, "bench", model, "--seconds", "1"], capture_output=True,
+                         text=True)
+    if run.returncode != 0:
+        fail(f"cw4d bench '{model}' exited {run.returncode}: {run.stderr.strip()}")
+    m = re.search(r"slice, hot path \(Slicer\)\s+([\d.]+) us", run.stdout)
+    if not m:
+        fail(f"cw4d bench printed no hot-path time: {run.stdout}")
+    return float(m.group(1))
+
+
+def check_view(args, tmp):
+    """`cw4d view` writes one file that opens from disk (file://, no server) and shows the same
+    section as `cw4d slice` of the same placed model."""
+    case = {"spec": "24-cell", "rotate": [["xw", 40], ["xy", 15], ["zw", -25]],
+            "normal": [1, 0, 1, 2], "offset": 0.35}
+    page = os.path.join(tmp, "view.html")
+    cmd = [args.cw4d, "view", case["spec"], "--normal", "1,0,1,2", "--offset", "0.35", "-o", page,
+           "--template", os.path.join(args.site, "cw4d-view.html")]
+    for plane, deg in case["rotate"]:
+        cmd += ["--rotate", f"{plane}:{deg}"]
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    if run.returncode != 0:
+        fail(f"{' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    # Bad requests: exit 1 (usage) with one error line and no file written.
+    good = {"-o": os.path.join(tmp, "bad.html"), "--normal": "0,0,0,1",
+            "--template": os.path.join(args.site, "cw4d-view.html")}
+    for bad, why in [({"--template": os.path.join(tmp, "missing.html")}, "missing"),
+                     ({"-o": os.path.join(tmp, "view.txt")}, ".html"),
+                     ({"--rotate": "xq:10"}, "xq")]:
+        opts = {**good, **bad}
+        argv = [args.cw4d, "view", "24-cell"] + [x for kv in opts.items() for x in kv]
+        r = subprocess.run(argv, capture_output=True, text=True)
+        lines = r.stderr.strip().splitlines()
+        written = os.path.exists(opts["-o"])
+        if r.returncode != 1 or len(lines) != 1 or why not in lines[0] or written:
+            fail(f"{' '.join(argv)}: exit {r.returncode}, stderr {r.stderr!r}, file written: "
+                 f"{written}", fatal=False)
+    profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
+    try:
+        dump = subprocess.run(
+            chromium_command(args.chromium, profile, "file://" + os.path.abspath(page))[:-1] +
+            ["--virtual-time-budget=20000", "--dump-dom", "file://" + os.path.abspath(page)],
+            capture_output=True, text=True, timeout=300)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+    fv = re.search(r'id="fvector">\(([\d, ]+)\)<', dump.stdout)
+    vol = re.search(r'id="volume">([^<]+)<', dump.stdout)
+    if not fv or not vol:
+        status = re.search(r'id="status"[^>]*>([^<]*)<', dump.stdout)
+        fail("the page of cw4d view shows no section (status: "
+             f"{status.group(1) if status else dump.stdout[:300]!r})")
+    counts, volume, line = native_slice(args, tmp, case, case["offset"])
+    shown = [int(x) for x in fv.group(1).split(",")]
+    if shown != counts or not close(float(vol.group(1)), volume):
+        fail(f"cw4d view page shows ({fv.group(1)}), volume {vol.group(1)}; native '{line}'",
+             fatal=False)
+    return 1
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--site", required=True)
+    ap.add_argument("--cw4d", required=True)
+    ap.add_argument("--samples", required=True)
+    ap.add_argument("--chromium", default="chromium")
+    ap.add_argument("--timeout", type=float, default=600)
+    ap.add_argument("--report", help="write the measured figures as JSON here")
+    args = ap.parse_args()
+
+    t0 = time.monotonic()
+    with tempfile.TemporaryDirectory(prefix="cw4d-buffers-") as generated:
+        page = run_page(args, generated)
+    page_seconds = time.monotonic() - t0
+    if not page.get("ok"):
+        fail(f"the page's selftest failed: {page.get('error')}")
+
+    checked = 0
+    with tempfile.TemporaryDirectory(prefix="cw4d-browser-") as tmp:
+        for case in page["cases"]:
+            counts, volume, line = native_slice(args, tmp, case, case["offset"])
+            label = f"{case['spec'] or case['file']} {case['rotate']} n={case['normal']} " \
+                    f"d={case['offset']}"
+            if case["fvector"] != counts:
+                fail(f"{label}: WASM f-vector {case['fvector']} volume {case['volume']!r}, "
+                     f"native '{line}'", fatal=False)
+            elif not close(case["volume"], volume):
+                fail(f"{label}: WASM volume {case['volume']!r}, native '{line}'", fatal=False)
+            if len(case["normal"]) == 4 and case["triangles"] <= 0:
+                fail(f"{label}: no triangles")  # (3D models: the section is an outline)
+            checked += 1
+        sweep = page["sweep"]
+        for layer in sweep["layers"]:
+            counts, volume, line = native_slice(args, tmp, sweep, layer["offset"])
+            if layer["fvector"] != counts or not close(layer["volume"], volume):
+                fail(f"sweep layer d={layer['offset']}: WASM {layer}, native '{line}'", fatal=False)
+            checked += 1
+        checked += check_view(args, tmp)
+
+    for g in page["gpu"]:
+        if g["skippedCells"] != 0 or g["tets"] <= 0:
+            fail(f"GPU path of {g['spec']}: {g['tets']} tetrahedra, {g['skippedCells']} cells left out")
+        if g["cpuPixels"] < 1000:
+            fail(f"GPU comparison of {g['spec']}: the CPU path covers only {g['cpuPixels']} pixels")
+        if not g["iou"] >= 0.97:
+            fail(f"GPU path of {g['spec']}: IoU {g['iou']:.4f} with the CPU path (< 0.97)",
+                 fatal=False)
+
+    if len(page["buffers"]) != len(BUFFER_MODELS):
+        fail(f"the page compared {len(page['buffers'])} native GPU buffers, not {len(BUFFER_MODELS)}")
+    for g in page["buffers"]:
+        if g["cpuPixels"] < 1000 or not g["iou"] >= 0.97:
+            fail(f"native GPU buffer of {g['spec']} ({g['tets']} tetrahedra): IoU {g['iou']:.4f}, "
+                 f"CPU pixels {g['cpuPixels']}", fatal=False)
+
+    listed = subprocess.run([args.cw4d, "list"], capture_output=True, text=True, check=True)
+    native_specs = {re.split(r"\s{2,}", l.strip())[0] for l in listed.stdout.splitlines() if l.strip()}
+    wasm_specs = {c["spec"] for c in page["catalogue"]}
+    if native_specs != wasm_specs:
+        fail(f"catalogue differs from `cw4d list`: only native {sorted(native_specs - wasm_specs)}, "
+             f"only WASM {sorted(wasm_specs - native_specs)}")
+    unavailable = sorted(c["spec"] for c in page["catalogue"] if not c["available"])
+    if not unavailable:
+        fail("the catalogue marks no family as unavailable (the CGAL ones are not built)")
+
+    errors = page["errors"]
+    for key, text in errors.items():
+        if not text or "\n" in text:
+            fail(f"error '{key}' is not one non-empty line: {text!r}")
+    if "no-such-model" not in errors["spec"] or "bad.4off" not in errors["off"]:
+        fail(f"error lines do not name their input: {errors}")
+
+    bench = []
+    for b in page["bench"]:
+        native = native_bench_us(args, b["spec"])
+        bench.append({"model": b["spec"], "wasm_us": b["us"], "native_us": native,
+                      "ratio": b["us"] / native})
+    print(f"browser_test: {checked} sections match the native CLI; GPU/CPU IoU " +
+          ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["gpu"]) +
+          "; native GPU buffers " +
+          ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["buffers"]) +
+          f"; unavailable in WASM: {', '.join(unavailable)}; page ran {page_seconds:.1f} s")
+    for b in bench:
+        print(f"browser_test: slice hot path {b['model']}: WASM {b['wasm_us']:.1f} us, native "
+              f"{b['native_us']:.1f} us, WASM/native {b['ratio']:.2f}x")
+    if FAILURES:
+        sys.exit(1)
+    if args.report:
+        with open(args.report, "w") as f:
+            json.dump({"bench": bench, "gpu": page["gpu"], "buffers": page["buffers"],
+                       "page_seconds": page_seconds}, f, indent=2)
+
+
+if __name__ == "__main__":
+    main()
