@@ -3,7 +3,9 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
 #include <sys/syscall.h>
+#endif
 #include <unistd.h>
 
 #include <array>
@@ -39,6 +41,8 @@ struct Slot {
 std::array<Slot, kSlots> g_slots;
 
 void remove_folder_in_handler(const char* path) {
+#if defined(__linux__) && !defined(__EMSCRIPTEN__)
+  // getdents64 is the async-signal-safe way to list a folder (opendir/readdir allocate).
   const int dir = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
     alignas(8) char buf[4096];
@@ -56,7 +60,8 @@ void remove_folder_in_handler(const char* path) {
     }
     ::close(dir);
   }
-  ::rmdir(path);
+#endif
+  ::rmdir(path);  // elsewhere only an empty folder goes
 }
 
 extern "C" void remove_temporaries_and_die(int sig) {
