@@ -15,6 +15,7 @@
 // what one operation processes (tetrahedra for tet), and "fallback" lines where supported.
 //
 //   bench_compare [--min-time SECONDS] [--filter SUBSTRING]
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,7 +37,7 @@ namespace {
 
 double g_min_time = 0.25;
 const char* g_filter = nullptr;
-volatile std::size_t g_sink = 0;
+std::atomic<std::size_t> g_sink{0};
 
 using Clock = std::chrono::steady_clock;
 
@@ -60,7 +61,9 @@ void report(const std::string& name, double ns, double units) {
   std::fflush(stdout);
 }
 
-bool wanted(const std::string& name) { return !g_filter || name.find(g_filter) != std::string::npos; }
+bool wanted(const std::string& name) {
+  return !g_filter || name.find(g_filter) != std::string::npos;
+}
 
 Eigen::VectorXd fixed_normal() {
   Eigen::VectorXd n(4);
@@ -69,6 +72,10 @@ Eigen::VectorXd fixed_normal() {
 }
 
 void run_model(const std::string& spec, const std::string& label, bool tets) {
+  bool any = false;
+  for (const char* kind : {"/slice", "/fixed", "/vertex", "/section", "/sweep", "/tet"})
+    any |= wanted(label + kind);
+  if (!any) return;
   const cw4d::Complex model = cw4d::load_model(spec);
   const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
   const std::vector<cw4d::Hyperplane> planes = cw4d::bench::generic_planes(model, 256, 20240401u);
@@ -78,7 +85,8 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
   std::vector<cw4d::Hyperplane> through;  // planes through vertices (generic normals)
   for (std::size_t i = 0; i < 16; ++i) {
     const Eigen::VectorXd& n = planes[i].normal;
-    const Eigen::VectorXd x = model.position(static_cast<std::uint32_t>((i * 7919) % model.count(0)));
+    const Eigen::VectorXd x =
+        model.position(static_cast<std::uint32_t>((i * 7919) % model.count(0)));
     through.push_back({n, n.dot(x)});
   }
   cw4d::Slicer slicer;
@@ -139,11 +147,14 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
 #ifdef CW4D_SLICE_FALLBACK_REASON
   // Why slices of the generic planes and of the planes through vertices took the general path.
   std::size_t counts[cw4d::kFallbackReasonCount] = {};
-  for (const auto& p : planes) slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
-  for (const auto& p : through) slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
+  for (const auto& p : planes)
+    slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
+  for (const auto& p : through)
+    slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
   std::printf("fallback %s", label.c_str());
   for (int r = 0; r < cw4d::kFallbackReasonCount; ++r)
-    if (counts[r]) std::printf(" %s=%zu", cw4d::to_string(static_cast<cw4d::FallbackReason>(r)), counts[r]);
+    if (counts[r])
+      std::printf(" %s=%zu", cw4d::to_string(static_cast<cw4d::FallbackReason>(r)), counts[r]);
   std::printf("\n");
 #endif
 }
@@ -167,5 +178,5 @@ int main(int argc, char** argv) {
   run_model("600-cell", "600-cell", true);
   run_model("duoprism:32,32", "duoprism32", true);
   run_model("omnitruncated 120-cell", "omni120", false);
-  return g_sink == 0xdeadbeef ? 1 : 0;
+  return g_sink.load() == 0xdeadbeef ? 1 : 0;
 }

@@ -7,7 +7,7 @@
 # with the working tree's bench_compare.cpp (it uses only API both have), runs the two programs
 # in alternating rounds (old, new, old, new, ...) and prints per case the median time of each
 # and old/new. Nothing outside the checkout and /tmp is written; the worktree is removed.
-# BENCH_FILTER=substring restricts the cases.
+# BENCH_MODELS="tesseract/ 600-cell/" restricts the models (case name prefixes).
 set -euo pipefail
 ref=${1:-1da183a}
 rounds=${2:-3}
@@ -41,12 +41,14 @@ new_build=${NEW_BUILD:-$root/build}
 build "$root" "$new_build"
 old_bin="$tmp/build-old/bench/bench_compare"
 new_bin="$new_build/bench/bench_compare"
-args=(--min-time "$min_time")
-[[ -n "${BENCH_FILTER:-}" ]] && args+=(--filter "$BENCH_FILTER")
+# Alternating per model (the load of a shared machine drifts within a run): old, new, old, ...
+models=${BENCH_MODELS:-"tesseract/ 24-cell/ 120-cell/ 600-cell/ duoprism32/ omni120/"}
 for ((r = 1; r <= rounds; ++r)); do
   echo "round $r/$rounds ..." >&2
-  "$old_bin" "${args[@]}" | sed 's/^/old /' >>"$tmp/runs.txt"
-  "$new_bin" "${args[@]}" | sed 's/^/new /' >>"$tmp/runs.txt"
+  for m in $models; do
+    "$old_bin" --min-time "$min_time" --filter "$m" | sed 's/^/old /' >>"$tmp/runs.txt"
+    "$new_bin" --min-time "$min_time" --filter "$m" | sed 's/^/new /' >>"$tmp/runs.txt"
+  done
 done
 echo "# bench/compare.sh $ref $rounds $min_time  ($(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet || echo '+dirty') vs $(git -C "$root" rev-parse --short "$ref"), $rounds alternating rounds, medians)"
 awk '

@@ -487,7 +487,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
         const Eigen::VectorXd w = inv_t * model.facet_normals().col(sec.source[ofr][f]);
         nrm = sec.frame.basis.transpose() * w;
       }
-      if (nrm.norm() < 1e-9) nrm = facet_area_vector(sec.complex, f);
+      if (nrm.norm() < tol::near_parallel_normal) nrm = facet_area_vector(sec.complex, f);
       const double len = nrm.norm();
       normals.col(f) = len > 0.0 ? Eigen::VectorXd(nrm / len) : nrm;
     }

@@ -113,6 +113,20 @@ bool every_element_bounds(const Complex& c, int below_rank) {
 
 }  // namespace
 
+const char* to_string(FallbackReason r) {
+  switch (r) {
+    case FallbackReason::None: return "none";
+    case FallbackReason::Model: return "model";
+    case FallbackReason::OnPlane: return "on-plane";
+    case FallbackReason::Weld: return "weld";
+    case FallbackReason::FaceCut: return "face-cut";
+    case FallbackReason::CellCut: return "cell-cut";
+    case FallbackReason::Multiplicity: return "multiplicity";
+    case FallbackReason::NearParallel: return "near-parallel";
+  }
+  return "?";
+}
+
 // --- SliceModel -------------------------------------------------------------------------------
 
 namespace {
@@ -462,6 +476,7 @@ void clear_to_empty(SliceBuffers& out, int dim) {
   out.vertex_source.clear();
   out.set_ranks(0);  // (no tables: the empty section has only rank 0)
   out.facet_normals.clear();
+  out.fallback = FallbackReason::None;
 }
 
 }  // namespace
@@ -495,6 +510,8 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
     ++cached_count_;
     return;
   }
+  reason_ = FallbackReason::None;
+  kernel_ = options.kernel;
   if (!fast_slice(m, pl, options, out)) general();
 }
 
@@ -512,6 +529,7 @@ void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const A
   out.facet_normals.assign(c.facet_normals().data(),
                            c.facet_normals().data() + c.facet_normals().size());
   out.general = true;
+  out.fallback = m.fast() ? reason_ : FallbackReason::Model;
   out.reused_topology = false;
   out.cache_valid_ = false;
 }
@@ -525,7 +543,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
   for (const Term& t : chain) {
     const auto e = edges.ids(t.id);
     const int sign = t.coef > 0 ? 1 : -1;
-    if (std::abs(t.coef) != 1) return false;
+    if (std::abs(t.coef) != 1) return fail(FallbackReason::Multiplicity);
     steps_.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
   }
   // With distinct tails any sort gives the general path's order (repeated tails, a pinched
@@ -537,7 +555,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
     std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
   }
   for (std::size_t i = 1; i < steps_.size(); ++i)
-    if (steps_[i].tail == steps_[i - 1].tail) return false;
+    if (steps_[i].tail == steps_[i - 1].tail) return fail(FallbackReason::CellCut);
   auto find_from = [&](std::uint32_t tail) -> Step* {
     auto it = std::lower_bound(steps_.begin(), steps_.end(), tail,
                                [](const Step& s, std::uint32_t v) { return s.tail < v; });
@@ -562,7 +580,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
       }
       cur = find_from(cur->head);
     }
-    if (!closed || row_ids_.size() < 3) return false;  // the general path drops these
+    if (!closed || row_ids_.size() < 3) return fail(FallbackReason::CellCut);  // (dropped there)
     image.push_back({static_cast<std::uint32_t>(faces.size()), 1});
     faces.add_row(row_ids_, row_signs_);
     out.source[2].push_back(source);
@@ -579,7 +597,7 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
   const std::uint32_t model_x = R.model_id.empty() ? x : R.model_id[x];
   if (k == 2) {
     if (chain_.size() != 2 || chain_[0].coef != -chain_[1].coef || std::abs(chain_[0].coef) != 1)
-      return false;  // a face cut in more than two points: the general path
+      return fail(FallbackReason::FaceCut);  // cut in more than two points: the general path
     const bool first_is_tail = chain_[0].coef < 0;
     const std::uint32_t ends[2] = {first_is_tail ? chain_[0].id : chain_[1].id,
                                    first_is_tail ? chain_[1].id : chain_[0].id};
@@ -596,7 +614,7 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
     row_ids_.clear();
     row_signs_.clear();
     for (const Term& t : chain_) {
-      if (std::abs(t.coef) != 1) return false;
+      if (std::abs(t.coef) != 1) return fail(FallbackReason::Multiplicity);
       row_ids_.push_back(t.id);
       row_signs_.push_back(static_cast<std::int8_t>(t.coef));
     }
@@ -650,6 +668,7 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   const int n = m.dim_;
   out.reused_topology = false;
   out.general = false;
+  out.fallback = FallbackReason::None;
   out.cache_valid_ = false;
   out.dim = n - 1;
   out.plane.normal = pl.plane->normal;
@@ -679,7 +698,7 @@ bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const
 
 bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
   double t;
-  if (!crossing(m, e, &t)) return false;
+  if (!crossing(m, e, &t)) return fail(FallbackReason::Weld);
   const SliceModel::Rank& E = m.ranks_[1];
   const std::uint32_t a = E.ids[2 * e];
   const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
@@ -712,11 +731,11 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
   if (touched_.size() == nc && nc > 1) {
     const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
     for (std::uint32_t v = 0; v < nv; ++v)
-      if (!value(v)) return false;
+      if (!value(v)) return fail(FallbackReason::OnPlane);
   } else {
     for (auto c : touched_)
       for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-        if (!value(m.cluster_vertices_[i])) return false;
+        if (!value(m.cluster_vertices_[i])) return fail(FallbackReason::OnPlane);
   }
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
@@ -769,7 +788,107 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
       if (produced > 0 && k < top) mark_parents(m, k, x);
       return true;
     };
-    auto visit = [&](std::uint32_t b, std::uint32_t e) { return visit_marked(bits, b, e, process); };
+    // The specialised kernel. A convex face is cut in exactly two crossings: one section edge
+    // from the crossing whose chain coefficient is -1 to the one with +1, as the generic
+    // gathering gives after combine_chain. A cell whose faces each gave one section edge is
+    // chained through a next map (the step leaving each section vertex, stamped per cell) from
+    // its smallest tail; when that one loop uses every step it is the polygon emit_loops
+    // builds (loops start at the smallest tail, steps follow heads). Anything else (more
+    // crossings, a face twice, a pinch, several loops, an open chain) goes to `process`, which
+    // decides it exactly as before. Returns 1 when done, -1 for `process`.
+    Incidence& out_edges = out.boundary[0];
+    auto face_kernel = [&](std::uint32_t x) -> int {
+      std::uint32_t v[2];
+      int c[2];
+      int cnt = 0;
+      for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
+        const Image img = below[ids[i]];
+        if (img.gen != gen) continue;
+        if (cnt == 2) return -1;
+        const Term& t = below_terms[img.begin];
+        v[cnt] = t.id;
+        c[cnt] = -signs[i] * t.coef;
+        ++cnt;
+      }
+      if (cnt != 2 || v[0] == v[1] || c[0] != -c[1]) return -1;
+      const std::uint32_t ends[2] = {c[0] < 0 ? v[0] : v[1], c[0] < 0 ? v[1] : v[0]};
+      static constexpr std::int8_t kEdgeSigns[2] = {-1, 1};
+      const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
+      terms_[k].push_back({static_cast<std::uint32_t>(out_edges.size()), 1});
+      out_edges.add_row(ends, kEdgeSigns);
+      out.source[1].push_back(R.model_id.empty() ? x : R.model_id[x]);
+      if (k == fr) facet_internal_.push_back(x);
+      images_[k][x] = {gen, first, 1};
+      if (k < top) mark_parents(m, k, x);
+      return 1;
+    };
+    const std::uint32_t* edge_ends = out_edges.all_ids().data();
+    auto cell_kernel = [&](std::uint32_t x) -> int {
+      if (++stamp_ == 0) {  // wrapped: forget every stamp
+        std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
+        std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
+        stamp_ = 1;
+      }
+      const std::uint32_t st = stamp_;
+      steps_.clear();
+      std::uint32_t lo = none, start = 0;
+      for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
+        const Image img = below[ids[i]];
+        if (img.gen != gen) continue;
+        if (img.count != 1) return -1;
+        const Term& t = below_terms[img.begin];
+        if (edge_stamp_[t.id] == st) return -1;
+        edge_stamp_[t.id] = st;
+        const int sign = -signs[i] * t.coef;
+        const std::uint32_t tail = edge_ends[2 * t.id + (sign > 0 ? 0 : 1)];
+        const std::uint32_t head = edge_ends[2 * t.id + (sign > 0 ? 1 : 0)];
+        if (vertex_stamp_[tail] == st) return -1;  // a pinch
+        vertex_stamp_[tail] = st;
+        vertex_next_[tail] = static_cast<std::uint32_t>(steps_.size());
+        if (tail < lo) lo = tail, start = static_cast<std::uint32_t>(steps_.size());
+        steps_.push_back({tail, head, t.id, sign, false});
+      }
+      const std::size_t ns = steps_.size();
+      if (ns < 3) return -1;
+      row_ids_.clear();
+      row_signs_.clear();
+      std::uint32_t cur = start;
+      for (;;) {
+        const Step& sp = steps_[cur];
+        row_ids_.push_back(sp.edge);
+        row_signs_.push_back(static_cast<std::int8_t>(sp.sign));
+        if (sp.head == lo) break;
+        if (row_ids_.size() == ns || vertex_stamp_[sp.head] != st) return -1;
+        cur = vertex_next_[sp.head];
+      }
+      if (row_ids_.size() != ns) return -1;  // several loops
+      Incidence& faces = out.boundary[1];
+      const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
+      terms_[k].push_back({static_cast<std::uint32_t>(faces.size()), 1});
+      faces.add_row(row_ids_, row_signs_);
+      out.source[2].push_back(R.model_id.empty() ? x : R.model_id[x]);
+      if (k == fr) facet_internal_.push_back(x);
+      images_[k][x] = {gen, first, 1};
+      if (k < top) mark_parents(m, k, x);
+      return 1;
+    };
+    const bool use_kernel = kernel_ && (k == 2 || (k == 3 && fr == 3));
+    if (use_kernel && k == 3) {
+      const std::size_t nsv = out.vertex_source.size(), nse = out_edges.size();
+      if (vertex_stamp_.size() < nsv) vertex_stamp_.resize(nsv, 0), vertex_next_.resize(nsv);
+      if (edge_stamp_.size() < nse) edge_stamp_.resize(nse, 0);
+    }
+    auto kernel_process = [&](std::uint32_t x) -> bool {
+      if ((k == 2 ? face_kernel(x) : cell_kernel(x)) > 0) {
+        ++kernel_count_;
+        return true;
+      }
+      ++generic_count_;
+      return process(x);
+    };
+    auto visit = [&](std::uint32_t b, std::uint32_t e) {
+      return use_kernel ? visit_marked(bits, b, e, kernel_process) : visit_marked(bits, b, e, process);
+    };
     if (k == top && m.single_solid_ && k == 3) {
       // The one solid of a polyhedron: its cut's boundary is every section edge, with the
       // sign of the edge's facet in the solid (no gathering over the solid's long row).
@@ -882,7 +1001,8 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
       len2 += sum * sum;
     }
     const double len = std::sqrt(len2);
-    if (len < 1e-9) return false;  // nearly parallel to the plane: the general path's area vector
+    // Nearly parallel to the plane: the general path's area vector.
+    if (len < tol::near_parallel_normal) return fail(FallbackReason::NearParallel);
     for (int r = 0; r < o; ++r) out.facet_normals[f * o + r] = y[r] / len;
   }
   return true;
@@ -917,6 +1037,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   if (!write_geometry(m, pl, out, out.cache_edge_, out.cache_facet_)) return false;
   out.reused_topology = true;
   out.general = false;
+  out.fallback = FallbackReason::None;
   return true;
 }
 
@@ -977,6 +1098,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
                           std::vector<SliceBuffers>& out) {
   const std::size_t L = layers.size();
   if (L == 0) return;
+  kernel_ = true;
   auto single = [&](std::uint32_t k) {
     slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
   };
@@ -1148,6 +1270,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
         clear_to_empty(out[i], dim_ - 1);
         out[i].plane = plane;
         out[i].general = !objects_[i].model->fast();  // as the general path's empty result
+        out[i].fallback = out[i].general ? FallbackReason::Model : FallbackReason::None;
         out[i].reused_topology = false;
         continue;
       }
