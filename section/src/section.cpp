@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 
@@ -497,15 +498,39 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   return sec;
 }
 
+namespace {
+
+// Per thread: the last models compiled for section() (each checked against the complex's
+// current arrays before use, so a complex changed in place or a new one at the same address is
+// compiled afresh), one Slicer and one SliceBuffers, so repeated calls allocate only the
+// Section they return.
+struct SectionScratch {
+  static constexpr std::size_t kModels = 4;
+  std::unique_ptr<SliceModel> models[kModels];
+  std::size_t next = 0;
+  Slicer slicer;
+  SliceBuffers buffers;
+
+  const SliceModel& compiled(const Complex& model) {
+    for (auto& m : models)
+      if (m && m->compiled_from(model)) return *m;
+    auto& slot = models[next];
+    next = (next + 1) % kModels;
+    slot = std::make_unique<SliceModel>(model, SliceModelOptions::unclustered());
+    return *slot;
+  }
+};
+
+}  // namespace
+
 Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
   check_section_input(model, plane, xf);
   // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
-  const SliceModel compiled(model, SliceModelOptions::unclustered());
+  thread_local SectionScratch scratch;
+  const SliceModel& compiled = scratch.compiled(model);
   if (!compiled.fast()) return section_general(model, plane, xf);
-  Slicer slicer;
-  SliceBuffers buffers;
-  slicer.slice(compiled, plane, xf, buffers);
-  return to_section(buffers);
+  scratch.slicer.slice(compiled, plane, xf, scratch.buffers);
+  return to_section(scratch.buffers);
 }
 
 Section section(const Complex& model, const Hyperplane& plane) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <mutex>
@@ -330,6 +331,32 @@ void SliceModel::build_cofaces() {
       for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
         up_ids_[k][fill[above.ids[i]]++] = x;
   }
+}
+
+bool SliceModel::compiled_from(const Complex& c) const {
+  if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
+  const auto same = [](const auto* a, const auto* b, std::size_t count) {
+    return count == 0 || std::memcmp(a, b, count * sizeof(*a)) == 0;
+  };
+  const Eigen::MatrixXd& p = c.positions();
+  const Eigen::MatrixXd& fn = c.facet_normals();
+  if (!fast_) return false;  // (nothing compiled but the verdict)
+  if (!vertex_id_.empty() || static_cast<std::size_t>(p.size()) != positions_.size() ||
+      static_cast<std::size_t>(fn.size()) != facet_normals_.size() ||
+      !same(p.data(), positions_.data(), positions_.size()) ||
+      !same(fn.data(), facet_normals_.data(), facet_normals_.size()))
+    return false;
+  for (int k = 1; k <= top_; ++k) {
+    const Incidence& t = c.boundary(k);
+    const Rank& r = ranks_[k];
+    if (!r.model_id.empty() || t.offsets().size() != r.offsets.size() ||
+        t.all_ids().size() != r.ids.size() ||
+        !same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
+        !same(t.all_ids().data(), r.ids.data(), r.ids.size()) ||
+        !same(t.all_signs().data(), r.signs.data(), r.signs.size()))
+      return false;
+  }
+  return true;
 }
 
 std::size_t SliceModel::bytes() const {

@@ -79,6 +79,10 @@ class SliceModel {
   std::size_t cluster_count() const { return cluster_vertex_.size() - 1; }
   const Eigen::VectorXd& centre() const { return centre_; }
   double radius() const { return radius_; }
+  /// Whether this is the unclustered compilation of `model` as it is now: the same object and
+  /// bit for bit the same positions, boundary tables and facet normals (a cheap linear check,
+  /// for caches of compiled models).
+  bool compiled_from(const Complex& model) const;
   /// Bytes of the compiled arrays (not counting the model).
   std::size_t bytes() const;
 
