@@ -76,18 +76,40 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+  TetSection out;
+  slice_tets(mesh, plane, xf, out);
+  return out;
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
+  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSection& out) {
   if (plane.dim() != 4)
     throw InputError("slice_tets: hyperplane in R^" + std::to_string(plane.dim()) + ", not R^4");
   if (xf.dim() != 4)
     throw InputError("slice_tets: transform of R^" + std::to_string(xf.dim()) + ", not R^4");
-  TetSection out;
   out.frame = HyperplaneFrame(plane);
+  out.corners.clear();
+  out.tet.clear();
+  out.cell.clear();
   // The plane in model space: (A^T n).x = d - n.t (as cw4d::section does).
   const Eigen::Vector4d nm = xf.linear().transpose() * plane.normal;
   const double dm = plane.offset - plane.normal.dot(xf.translation());
   const auto& p = mesh.positions;
   const auto nv = static_cast<std::size_t>(p.cols());
-  std::vector<double> s(nv);
+  // Per-thread scratch, kept between slices.
+  thread_local std::vector<double> s;
+  thread_local std::vector<Side> side;
+  thread_local std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
+  thread_local std::vector<TetCutPoint> cut_buf;
+  s.resize(nv);
+  side.resize(nv);
+  all_pos.clear();
+  all_nrm.clear();
+  all_uvw.clear();
   double max_norm2 = 0.0;
   for (std::size_t v = 0; v < nv; ++v) {
     const auto x = p.col(static_cast<Eigen::Index>(v));
@@ -96,7 +118,6 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
   }
   const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
   const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
-  std::vector<Side> side(nv);
   bool any_neg = false, any_pos = false, any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
     side[v] = classify_side(s[v], tolerance);
@@ -104,7 +125,22 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
     any_pos |= side[v] == Side::Positive;
     any_on |= side[v] == Side::On;
   }
-  if (!any_pos && !any_neg) return out;  // everything on the plane: a flat model
+  const auto finish = [&] {
+    const auto n = static_cast<Eigen::Index>(all_pos.size());
+    if (out.positions.cols() != n) out.positions.resize(3, n);
+    if (out.normals.cols() != n) out.normals.resize(3, n);
+    if (out.uvw.cols() != n) out.uvw.resize(3, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto j = static_cast<std::size_t>(i);
+      out.positions.col(i) = all_pos[j];
+      out.normals.col(i) = all_nrm[j];
+      out.uvw.col(i) = all_uvw[j];
+    }
+  };
+  if (!any_pos && !any_neg) {  // everything on the plane: a flat model
+    finish();
+    return;
+  }
 
   // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
   const Eigen::Matrix4d lin = xf.linear();
@@ -113,20 +149,19 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
   const Eigen::Matrix<double, 3, 4> bt = basis.transpose();
   const Eigen::Vector3d offset = bt * (xf.translation() - out.frame.origin());
 
-  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf;
-  std::vector<TetCutPoint> cut_buf;
-  std::vector<Eigen::Vector3d> all_pos, all_nrm, all_uvw;
   // One pass of the cut; on-plane vertices count as positive or negative.
   auto run = [&](bool on_is_positive) {
+    // Corner k counts as positive when its side is at least `floor` (Side: -1, 0, +1).
+    const int floor = on_is_positive ? 0 : 1;
+    const Side* sd = side.data();
     for (std::size_t t = 0; t < mesh.size(); ++t) {
       const auto& tv = mesh.tets[t];
-      int mask = 0;
-      for (int k = 0; k < 4; ++k) {
-        const Side sd = side[tv[static_cast<std::size_t>(k)]];
-        if (sd == Side::Positive || (sd == Side::On && on_is_positive)) mask |= 1 << k;
-      }
+      const int mask = (static_cast<int>(sd[tv[0]]) >= floor) |
+                       ((static_cast<int>(sd[tv[1]]) >= floor) << 1) |
+                       ((static_cast<int>(sd[tv[2]]) >= floor) << 2) |
+                       ((static_cast<int>(sd[tv[3]]) >= floor) << 3);
+      if (mask == 0 || mask == 15) continue;  // all on one side: nothing to cut
       const TetCutCase& cc = kTetCutTable[static_cast<std::size_t>(mask)];
-      if (cc.count == 0) continue;
       const Eigen::Vector4d n4 = normal_map * mesh.tet_normal(t);
       const Eigen::Vector3d n3 = (bt * n4).normalized();
       pos_buf.clear();
@@ -184,6 +219,7 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
     }
     // A tetrahedron face lying in the plane between two tetrahedra on the same side is emitted by
     // both, with opposite orientations: the pieces cancel as chains (as in cw4d::section).
+    if (!any_on) return;  // (corners at vertices need vertices on the plane)
     std::map<std::array<std::uint32_t, 3>, std::vector<std::size_t>> flat;
     for (std::size_t i = 0; i < out.tet.size(); ++i) {
       std::array<std::uint32_t, 3> key{};
@@ -227,17 +263,7 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
   // as negative, so that a facet lying in the plane is returned (as cw4d::section does).
   run(true);
   if (out.tet.empty() && any_on) run(false);
-  const auto n = static_cast<Eigen::Index>(all_pos.size());
-  out.positions.resize(3, n);
-  out.normals.resize(3, n);
-  out.uvw.resize(3, n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto j = static_cast<std::size_t>(i);
-    out.positions.col(i) = all_pos[j];
-    out.normals.col(i) = all_nrm[j];
-    out.uvw.col(i) = all_uvw[j];
-  }
-  return out;
+  finish();
 }
 
 Section to_section(const TetSection& slice, const Complex& model) {
