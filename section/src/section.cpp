@@ -426,8 +426,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
     s[v] = plane_value(nm, dm, x.data());
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
-  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
-  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+  const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   std::vector<Side> side(nv);
   bool any_on = false, any_pos = false, any_neg = false;
   for (std::size_t v = 0; v < nv; ++v) {

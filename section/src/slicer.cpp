@@ -6,15 +6,14 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <string>
 #include <thread>
 #include <unordered_map>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
@@ -25,15 +24,6 @@ namespace {
 
 constexpr std::uint32_t none = 0xffffffffu;
 constexpr int kMaxDim = 4;
-
-// Joins every started thread when it goes out of scope, also when starting another one threw.
-struct JoinAll {
-  std::vector<std::thread>& pool;
-  ~JoinAll() {
-    for (auto& t : pool)
-      if (t.joinable()) t.join();
-  }
-};
 
 // Resizes v to `want` elements, moving dropped ones to `spare` and taking new ones from it, so
 // that their own storage is kept.
@@ -472,8 +462,7 @@ struct Slicer::Placement {
     double nt = 0.0;
     for (int i = 0; i < n; ++i) nt += plane->normal[i] * t[i];
     dm = d - nt;
-    const double scale = nm_norm * m.max_norm_ + std::abs(dm);
-    tol = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+    tol = on_plane_tolerance(nm_norm, m.max_norm_, dm);
     const int o = n - 1;
     for (int r = 0; r < o; ++r) {
       double sum = 0.0;
@@ -996,42 +985,64 @@ bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers&
   return write_geometry(m, pl, out, section_edge, facet_internal);
 }
 
-bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                            std::span<const std::uint32_t> section_edge,
-                            std::span<const std::uint32_t> facet_internal) {
-  const int n = m.dim_;
-  const int o = n - 1;
-  const double* P = m.positions_.data();
+namespace {
+
+// The vertex and facet-normal passes of write_geometry with the dimension fixed at compile
+// time (the loops unroll; the arithmetic is the same, term for term). False when a facet is
+// nearly parallel to the plane.
+template <int N>
+bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M,
+                   const double* c, const double* Nm, const double* facet_normals,
+                   std::span<const std::uint32_t> section_edge, const VertexSource* source,
+                   std::span<const std::uint32_t> facet_internal, double* coords,
+                   double* normals) {
+  constexpr int O = N - 1;
   // Vertices: y = M ((1 - t) a + t b) + c.
-  out.coords.resize(section_edge.size() * o);
   for (std::size_t i = 0; i < section_edge.size(); ++i) {
     const std::uint32_t e = section_edge[i];
-    const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
-    const double t = out.vertex_source[i].t;
-    double x[kMaxDim];
-    for (int j = 0; j < n; ++j) x[j] = (1.0 - t) * P[a * n + j] + t * P[b * n + j];
-    for (int r = 0; r < o; ++r) {
-      double sum = pl.c[r];
-      for (int j = 0; j < n; ++j) sum += pl.M[r * n + j] * x[j];
-      out.coords[i * o + r] = sum;
+    const double* pa = P + edge_ids[2 * e] * N;
+    const double* pb = P + edge_ids[2 * e + 1] * N;
+    const double t = source[i].t;
+    double x[N];
+    for (int j = 0; j < N; ++j) x[j] = (1.0 - t) * pa[j] + t * pb[j];
+    for (int r = 0; r < O; ++r) {
+      double sum = c[r];
+      for (int j = 0; j < N; ++j) sum += M[r * N + j] * x[j];
+      coords[i * O + r] = sum;
     }
   }
   // Facet normals: the model facets' normals through A^{-T}, projected, unit.
-  out.facet_normals.resize(facet_internal.size() * o);
   for (std::size_t f = 0; f < facet_internal.size(); ++f) {
-    const double* nf = &m.facet_normals_[facet_internal[f] * n];
-    double y[kMaxDim], len2 = 0.0;
-    for (int r = 0; r < o; ++r) {
+    const double* nf = facet_normals + facet_internal[f] * N;
+    double y[O], len2 = 0.0;
+    for (int r = 0; r < O; ++r) {
       double sum = 0.0;
-      for (int j = 0; j < n; ++j) sum += pl.N[r * n + j] * nf[j];
+      for (int j = 0; j < N; ++j) sum += Nm[r * N + j] * nf[j];
       y[r] = sum;
       len2 += sum * sum;
     }
     const double len = std::sqrt(len2);
     // Nearly parallel to the plane: the general path's area vector.
-    if (len < tol::near_parallel_normal) return fail(FallbackReason::NearParallel);
-    for (int r = 0; r < o; ++r) out.facet_normals[f * o + r] = y[r] / len;
+    if (len < tol::near_parallel_normal) return false;
+    for (int r = 0; r < O; ++r) normals[f * O + r] = y[r] / len;
   }
+  return true;
+}
+
+}  // namespace
+
+bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                            std::span<const std::uint32_t> section_edge,
+                            std::span<const std::uint32_t> facet_internal) {
+  const int n = m.dim_;
+  const int o = n - 1;
+  out.coords.resize(section_edge.size() * o);
+  out.facet_normals.resize(facet_internal.size() * o);
+  const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
+  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N,
+            m.facet_normals_.data(), section_edge, out.vertex_source.data(), facet_internal,
+            out.coords.data(), out.facet_normals.data()))
+    return fail(FallbackReason::NearParallel);
   return true;
 }
 
@@ -1086,7 +1097,7 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return offsets[a] < offsets[b]; });
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = resolve_threads(threads);
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, order.size()));
   if (threads <= 1) {
     sweep_layers(m, proto, xf, offsets, order, out);
@@ -1097,27 +1108,15 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   if (helpers_.size() < threads - 1) helpers_.resize(threads - 1);
   std::vector<std::size_t> before(threads - 1);
   for (unsigned t = 0; t + 1 < threads; ++t) before[t] = helpers_[t].fast_count_;
-  std::vector<std::thread> pool;
   const std::size_t per = (order.size() + threads - 1) / threads;
-  std::exception_ptr failure;
-  std::mutex failure_lock;
-  auto run = [&](Slicer& slicer, std::size_t b, std::size_t e) {
-    try {
-      slicer.sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b), out);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_lock);
-      if (!failure) failure = std::current_exception();
-    }
-  };
-  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
-  for (unsigned t = 1; t < threads; ++t) {
+  fork_join(threads, [&](unsigned t) {
     const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
-    if (b < e) pool.emplace_back([&, t, b, e] { run(helpers_[t - 1], b, e); });
-  }
-  run(*this, 0, std::min(per, order.size()));
-  for (auto& th : pool) th.join();  // (JoinAll covers a throw while starting them)
+    if (b < e)
+      (t == 0 ? *this : helpers_[t - 1])
+          .sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b),
+                        out);
+  });
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
-  if (failure) std::rethrow_exception(failure);
 }
 
 void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
@@ -1271,7 +1270,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
   out.resize(objects_.size());
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = resolve_threads(threads);
   threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
   // The culling pass: one flat array of world-space spheres.
@@ -1304,33 +1303,11 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
       slicers_[t].slice(*objects_[i].model, plane, objects_[i].transform, out[i], options);
     }
   };
-  if (threads == 1) {
-    run(0, 0, objects_.size());
-    return;
-  }
   // Blocks of consecutive objects; each thread writes only its own entries of out.
   const std::size_t per = (objects_.size() + threads - 1) / threads;
-  std::vector<std::thread> pool;
-  std::exception_ptr failure;
-  std::mutex failure_lock;
-  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
-  for (unsigned t = 1; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      try {
-        run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_lock);
-        if (!failure) failure = std::current_exception();
-      }
-    });
-  try {
-    run(0, 0, std::min(objects_.size(), per));
-  } catch (...) {
-    std::lock_guard<std::mutex> lock(failure_lock);
-    if (!failure) failure = std::current_exception();
-  }
-  for (auto& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+  fork_join(threads, [&](unsigned t) {
+    run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
+  });
 }
 
 // --- conversion -----------------------------------------------------------------------------

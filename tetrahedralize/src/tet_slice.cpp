@@ -199,8 +199,7 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
     s[v] = nm.dot(x) - dm;
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
-  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
-  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+  const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   bool any_neg = false, any_pos = false, any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
     side[v] = classify_side(s[v], tolerance);
