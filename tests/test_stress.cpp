@@ -318,7 +318,8 @@ std::string differs(const Section& fast, const Section& general, double scale,
 // (element for element), on every stress model: generic planes, and the planes of every
 // degenerate family moved off by 1e-7 of the model's size to either side (the fast path's
 // hardest inputs: crossings close to vertices) and on them (the fallback). Seeded; a tenth of
-// the stress planes per family, so it runs in seconds.
+// the stress planes per family, so it runs in seconds. section()'s convexity shortcut is checked
+// against self_intersects on the same slices.
 TEST_CASE("stress: the fast kernel agrees with the generic gathering and the general path",
           "[stress][kernel]") {
   std::mt19937 rng(706);
@@ -366,6 +367,9 @@ TEST_CASE("stress: the fast kernel agrees with the generic gathering and the gen
           differs(to_section(a), section_general(c, plane, AffineTransform::identity(4)), m.scale,
                   near_degenerate ? 1e-10 : 1e-12);
       if (!why.empty()) FAIL_CHECK(m.name << ": fast and general path differ (" << why << "), " << describe(plane));
+      // section() skips the self-intersection test for convex models: the same answer.
+      if (section(c, plane).self_intersecting != to_section(a).self_intersecting)
+        FAIL_CHECK(m.name << ": section() and self_intersects disagree, " << describe(plane));
     }
   }
   std::cout << "stress[kernel]: " << slices << " slices, " << fast << " on the fast path, "

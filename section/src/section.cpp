@@ -499,6 +499,26 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
 
 namespace {
 
+// Whether every vertex lies in the inner closed half-space of every facet's hyperplane (its
+// outward facet normal through its first vertex), up to 1e-12 of the largest vertex norm: far
+// below what self_intersects resolves (tol::self_intersection_rel), so the sections of a model
+// that passes cannot self-intersect visibly. Skipped (false) when facets x vertices exceeds
+// 2 10^7, where the test would cost more than the sections it saves.
+bool convex_certificate(const Complex& c) {
+  const int fr = c.facet_rank();
+  if (fr < 1 || c.top_rank() < fr || !c.has_facet_normals()) return false;
+  const std::size_t nf = c.count(fr), nv = c.count(0);
+  if (nf == 0 || static_cast<double>(nf) * static_cast<double>(nv) > 2e7) return false;
+  const Eigen::MatrixXd& p = c.positions();
+  const double slack = 1e-12 * std::sqrt(p.colwise().squaredNorm().maxCoeff());
+  Eigen::RowVectorXd h(static_cast<Eigen::Index>(nv));  // heights along facet f's normal
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    h.noalias() = c.facet_normals().col(f).transpose() * p;
+    if (h.maxCoeff() > h(c.first_vertex(fr, f)) + slack) return false;
+  }
+  return true;
+}
+
 // Per thread: the last models compiled for section() (each checked against the complex's
 // current arrays before use, so a complex changed in place or a new one at the same address is
 // compiled afresh), one Slicer and one SliceBuffers, so repeated calls allocate only the
@@ -510,13 +530,17 @@ struct SectionScratch {
   Slicer slicer;
   SliceBuffers buffers;
 
-  const SliceModel& compiled(const Complex& model) {
-    for (auto& m : models)
-      if (m && m->compiled_from(model)) return *m;
-    auto& slot = models[next];
+  bool convex[kModels] = {};
+
+  // The compiled model and whether the complex is convex (convex_certificate).
+  std::pair<const SliceModel*, bool> compiled(const Complex& model) {
+    for (std::size_t i = 0; i < kModels; ++i)
+      if (models[i] && models[i]->compiled_from(model)) return {models[i].get(), convex[i]};
+    const std::size_t i = next;
     next = (next + 1) % kModels;
-    slot = std::make_unique<SliceModel>(model, SliceModelOptions::unclustered());
-    return *slot;
+    models[i] = std::make_unique<SliceModel>(model, SliceModelOptions::unclustered());
+    convex[i] = models[i]->fast() && convex_certificate(model);
+    return {models[i].get(), convex[i]};
   }
 };
 
@@ -526,9 +550,12 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   check_section_input(model, plane, xf);
   // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
   thread_local SectionScratch scratch;
-  const SliceModel& compiled = scratch.compiled(model);
-  if (!compiled.fast()) return section_general(model, plane, xf);
-  scratch.slicer.slice(compiled, plane, xf, scratch.buffers);
+  const auto [compiled, convex] = scratch.compiled(model);
+  if (!compiled->fast()) return section_general(model, plane, xf);
+  scratch.slicer.slice(*compiled, plane, xf, scratch.buffers);
+  // A convex polytope's section by a plane in general position (the fast path) is a convex
+  // polytope whose faces are strictly convex polygons: nothing to test for self-intersection.
+  if (convex && !scratch.buffers.general) return to_section_untested(scratch.buffers);
   return to_section(scratch.buffers);
 }
 

@@ -1313,6 +1313,12 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
 // --- conversion -----------------------------------------------------------------------------
 
 Section to_section(const SliceBuffers& b) {
+  Section sec = to_section_untested(b);
+  sec.self_intersecting = self_intersects(sec.complex);
+  return sec;
+}
+
+Section to_section_untested(const SliceBuffers& b) {
   Section sec;
   const int dim = b.dim;
   sec.frame = HyperplaneFrame(b.plane);
@@ -1328,7 +1334,6 @@ Section to_section(const SliceBuffers& b) {
   sec.source = b.source;
   if (sec.source.empty()) sec.source.resize(1);
   sec.complex = std::move(c);
-  sec.self_intersecting = self_intersects(sec.complex);
   return sec;
 }
 
