@@ -503,12 +503,12 @@ namespace {
 // outward facet normal through its first vertex), up to 1e-12 of the largest vertex norm: far
 // below what self_intersects resolves (tol::self_intersection_rel), so the sections of a model
 // that passes cannot self-intersect visibly. Skipped (false) when facets x vertices exceeds
-// 2 10^7, where the test would cost more than the sections it saves.
+// 10^8 (about a second once per model), where it would cost more than it saves.
 bool convex_certificate(const Complex& c) {
   const int fr = c.facet_rank();
   if (fr < 1 || c.top_rank() < fr || !c.has_facet_normals()) return false;
   const std::size_t nf = c.count(fr), nv = c.count(0);
-  if (nf == 0 || static_cast<double>(nf) * static_cast<double>(nv) > 2e7) return false;
+  if (nf == 0 || static_cast<double>(nf) * static_cast<double>(nv) > 1e8) return false;
   const Eigen::MatrixXd& p = c.positions();
   const double slack = 1e-12 * std::sqrt(p.colwise().squaredNorm().maxCoeff());
   Eigen::RowVectorXd h(static_cast<Eigen::Index>(nv));  // heights along facet f's normal
