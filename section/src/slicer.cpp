@@ -305,6 +305,22 @@ void SliceModel::find_single_solid() {
 }
 
 void SliceModel::build_cofaces() {
+  // Edge lengths, for the weld test of each crossing (summed in the order crossing() used to).
+  {
+    const Rank& E = ranks_[1];
+    const std::size_t ne = E.offsets.size() - 1;
+    edge_length_.resize(ne);
+    const double* P = positions_.data();
+    for (std::size_t e = 0; e < ne; ++e) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      double len2 = 0.0;
+      for (int j = 0; j < dim_; ++j) {
+        const double d = P[b * dim_ + j] - P[a * dim_ + j];
+        len2 += d * d;
+      }
+      edge_length_[e] = std::sqrt(len2);
+    }
+  }
   up_offsets_.assign(top_, {});
   up_ids_.assign(top_, {});
   for (int k = 1; k < top_; ++k) {
@@ -350,7 +366,8 @@ bool SliceModel::compiled_from(const Complex& c) const {
 }
 
 std::size_t SliceModel::bytes() const {
-  std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) + facet_normals_.size() * sizeof(double) +
+  std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+                  facet_normals_.size() * sizeof(double) +
                   vertex_id_.size() * 4 + cluster_vertex_.size() * 4 +
                   cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
@@ -698,16 +715,9 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
 }
 
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
-  const int n = m.dim_;
-  const double* P = m.positions_.data();
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
-  double len2 = 0.0;
-  for (int j = 0; j < n; ++j) {
-    const double d = P[b * n + j] - P[a * n + j];
-    len2 += d * d;
-  }
-  const double len = std::sqrt(len2);
+  const double len = m.edge_length_[e];
   *t_out = t;
   return !(t * len <= m.weld_ || (1.0 - t) * len <= m.weld_);  // near an end: welding, general
 }

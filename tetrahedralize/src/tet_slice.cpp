@@ -104,13 +104,27 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
   out.cell.resize(tris);
   const double* P = mesh.positions.data();
   const double* UVW = mesh.corner_uvw.data();
+  thread_local std::vector<std::uint32_t> cell_stamp;
+  thread_local std::vector<Eigen::Vector3d> cell_n3;
+  thread_local std::uint32_t stamp = 0;
+  if (cell_stamp.size() < mesh.cell_count()) cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(mesh.cell_count());
+  if (++stamp == 0) {  // wrapped: forget every stamp
+    std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
+    stamp = 1;
+  }
   std::size_t w = 0;  // triangles written
   for (std::size_t t = 0; t < T; ++t) {
     const int mask = masks[t];
     if (mask == 0 || mask == 15) continue;
     const TetCutCase& cc = kTetCutTable[static_cast<std::size_t>(mask)];
     const auto& tv = mesh.tets[t];
-    const Eigen::Vector3d n3 = (NB * mesh.cell_normals.col(mesh.tet_cell[t])).normalized();
+    // The projected normal once per cell (every tetrahedron of a cell has the same one).
+    const std::uint32_t cell = mesh.tet_cell[t];
+    if (cell_stamp[cell] != stamp) {
+      cell_stamp[cell] = stamp;
+      cell_n3[cell] = (NB * mesh.cell_normals.col(cell)).normalized();
+    }
+    const Eigen::Vector3d n3 = cell_n3[cell];
     Eigen::Vector3d pos[4], uvw[4];
     TetCutPoint cut[4];
     for (int e = 0; e < cc.count; ++e) {

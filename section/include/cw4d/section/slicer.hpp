@@ -110,6 +110,7 @@ class SliceModel {
   std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
   std::vector<double> facet_normals_;    // dim_ per internal facet
+  std::vector<double> edge_length_;      // per internal edge
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
