@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/fork_join.hpp"
 
 namespace cw4d::render {
 
@@ -291,23 +292,10 @@ int worker_count(int requested) {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-// Runs f(i) for i in [0, n) on up to `threads` workers (each index exactly once).
+// f(i) for i in [0, n) on up to `threads` workers (each index exactly once; fork_join.hpp).
 template <class F>
-void parallel_for(std::size_t n, int threads, F&& f) {
-  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(threads), n);
-  if (workers <= 1) {
-    for (std::size_t i = 0; i < n; ++i) f(i);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t i = next++; i < n; i = next++) f(i);
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(workers - 1);
-  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+void run_parallel(std::size_t n, int threads, F&& f) {
+  cw4d::parallel_for(n, static_cast<unsigned>(std::max(1, threads)), std::forward<F>(f));
 }
 
 // Geometry stage over chunks: each chunk's output is kept apart and concatenated in order, so
@@ -316,7 +304,7 @@ template <class Produce>
 void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
   std::vector<std::vector<ScreenTriangle>> parts(chunks);
-  parallel_for(chunks, threads, [&](std::size_t c) {
+  run_parallel(chunks, threads, [&](std::size_t c) {
     produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
   });
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
@@ -453,7 +441,7 @@ Image Rasterizer::render() const {
 
   Image out(width, height);
   const glm::vec4 background = options_.background;
-  parallel_for(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
+  run_parallel(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
     const int ty0 = static_cast<int>(tile / tiles_x) * kTile;
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);

@@ -1,6 +1,7 @@
 #pragma once
 // What section.cpp and slicer.cpp share: input checks and chain arithmetic.
 #include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -27,6 +28,9 @@ void combine_chain(std::vector<Term>& chain) {
   }
   chain.resize(out);
 }
+
+/// to_section without the self-intersection test (self_intersecting stays false).
+Section to_section_untested(const SliceBuffers& buffers);
 
 /// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
 void check_section_input(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 
@@ -425,8 +426,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
     s[v] = plane_value(nm, dm, x.data());
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
-  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
-  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+  const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   std::vector<Side> side(nv);
   bool any_on = false, any_pos = false, any_neg = false;
   for (std::size_t v = 0; v < nv; ++v) {
@@ -487,7 +487,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
         const Eigen::VectorXd w = inv_t * model.facet_normals().col(sec.source[ofr][f]);
         nrm = sec.frame.basis.transpose() * w;
       }
-      if (nrm.norm() < 1e-9) nrm = facet_area_vector(sec.complex, f);
+      if (nrm.norm() < tol::near_parallel_normal) nrm = facet_area_vector(sec.complex, f);
       const double len = nrm.norm();
       normals.col(f) = len > 0.0 ? Eigen::VectorXd(nrm / len) : nrm;
     }
@@ -497,15 +497,66 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   return sec;
 }
 
+namespace {
+
+// Whether every vertex lies in the inner closed half-space of every facet's hyperplane (its
+// outward facet normal through its first vertex), up to 1e-12 of the largest vertex norm: far
+// below what self_intersects resolves (tol::self_intersection_rel), so the sections of a model
+// that passes cannot self-intersect visibly. Skipped (false) when facets x vertices exceeds
+// 10^8 (about a second once per model), where it would cost more than it saves.
+bool convex_certificate(const Complex& c) {
+  const int fr = c.facet_rank();
+  if (fr < 1 || c.top_rank() < fr || !c.has_facet_normals()) return false;
+  const std::size_t nf = c.count(fr), nv = c.count(0);
+  if (nf == 0 || static_cast<double>(nf) * static_cast<double>(nv) > 1e8) return false;
+  const Eigen::MatrixXd& p = c.positions();
+  const double slack = 1e-12 * std::sqrt(p.colwise().squaredNorm().maxCoeff());
+  Eigen::RowVectorXd h(static_cast<Eigen::Index>(nv));  // heights along facet f's normal
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    h.noalias() = c.facet_normals().col(f).transpose() * p;
+    if (h.maxCoeff() > h(c.first_vertex(fr, f)) + slack) return false;
+  }
+  return true;
+}
+
+// Per thread: the last models compiled for section() (each checked against the complex's
+// current arrays before use, so a complex changed in place or a new one at the same address is
+// compiled afresh), one Slicer and one SliceBuffers, so repeated calls allocate only the
+// Section they return.
+struct SectionScratch {
+  static constexpr std::size_t kModels = 4;
+  std::unique_ptr<SliceModel> models[kModels];
+  std::size_t next = 0;
+  Slicer slicer;
+  SliceBuffers buffers;
+
+  bool convex[kModels] = {};
+
+  // The compiled model and whether the complex is convex (convex_certificate).
+  std::pair<const SliceModel*, bool> compiled(const Complex& model) {
+    for (std::size_t i = 0; i < kModels; ++i)
+      if (models[i] && models[i]->compiled_from(model)) return {models[i].get(), convex[i]};
+    const std::size_t i = next;
+    next = (next + 1) % kModels;
+    models[i] = std::make_unique<SliceModel>(model, SliceModelOptions::unclustered());
+    convex[i] = models[i]->fast() && convex_certificate(model);
+    return {models[i].get(), convex[i]};
+  }
+};
+
+}  // namespace
+
 Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
   check_section_input(model, plane, xf);
   // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
-  const SliceModel compiled(model, SliceModelOptions::unclustered());
-  if (!compiled.fast()) return section_general(model, plane, xf);
-  Slicer slicer;
-  SliceBuffers buffers;
-  slicer.slice(compiled, plane, xf, buffers);
-  return to_section(buffers);
+  thread_local SectionScratch scratch;
+  const auto [compiled, convex] = scratch.compiled(model);
+  if (!compiled->fast()) return section_general(model, plane, xf);
+  scratch.slicer.slice(*compiled, plane, xf, scratch.buffers);
+  // A convex polytope's section by a plane in general position (the fast path) is a convex
+  // polytope whose faces are strictly convex polygons: nothing to test for self-intersection.
+  if (convex && !scratch.buffers.general) return to_section_untested(scratch.buffers);
+  return to_section(scratch.buffers);
 }
 
 Section section(const Complex& model, const Hyperplane& plane) {

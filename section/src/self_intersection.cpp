@@ -14,23 +14,23 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-struct Face {
-  std::vector<std::uint32_t> cycle;
-  std::vector<Vec3> pts;
-  Vec3 normal;  // unit
-  Vec3 lo, hi;  // bounding box
+// The faces of a surface in flat arrays: face f's cycle is [off[f], off[f+1]) of `pts` (its
+// corners) and of `ids` (its vertex ids, sorted, for the neighbour test).
+struct Faces {
+  std::vector<std::uint32_t> off, ids;
+  std::vector<Vec3> pts, normal, lo, hi;
 };
 
-// Strict interior of a planar polygon, tested in the coordinate plane that drops the normal's
-// largest component (crossing rule).
-bool inside(const Face& f, const Vec3& x) {
+// Strict interior of face f's planar polygon, tested in the coordinate plane that drops the
+// normal's largest component (crossing rule).
+bool inside(const Faces& F, std::uint32_t f, const Vec3& x) {
   int a = 0;
-  f.normal.cwiseAbs().maxCoeff(&a);
+  F.normal[f].cwiseAbs().maxCoeff(&a);
   const int u = (a + 1) % 3, v = (a + 2) % 3;
   bool in = false;
-  const std::size_t n = f.pts.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec3 &p = f.pts[i], &q = f.pts[j];
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec3 &p = F.pts[b + i], &q = F.pts[b + j];
     if ((p[v] > x[v]) != (q[v] > x[v]) &&
         x[u] < (q[u] - p[u]) * (x[v] - p[v]) / (q[v] - p[v]) + p[u])
       in = !in;
@@ -39,16 +39,64 @@ bool inside(const Face& f, const Vec3& x) {
 }
 
 // Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`).
-bool edge_pierces(const Face& f, const Face& g, double eps) {
-  const Vec3& g0 = g.pts[0];
-  for (std::size_t i = 0; i < f.pts.size(); ++i) {
-    const Vec3 &p = f.pts[i], &q = f.pts[(i + 1) % f.pts.size()];
-    const double sp = g.normal.dot(p - g0), sq = g.normal.dot(q - g0);
+bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps) {
+  const Vec3& g0 = F.pts[F.off[g]];
+  const Vec3& gn = F.normal[g];
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 &p = F.pts[b + i], &q = F.pts[b + (i + 1) % n];
+    const double sp = gn.dot(p - g0), sq = gn.dot(q - g0);
     if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) continue;
     const Vec3 x = p + (sp / (sp - sq)) * (q - p);
-    if (inside(g, x)) return true;
+    if (inside(F, g, x)) return true;
   }
   return false;
+}
+
+// Whether the sorted id lists of faces f and g share a vertex.
+bool share_vertex(const Faces& F, std::uint32_t f, std::uint32_t g) {
+  std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
+  while (i < ie && j < je) {
+    if (F.ids[i] == F.ids[j]) return true;
+    if (F.ids[i] < F.ids[j])
+      ++i;
+    else
+      ++j;
+  }
+  return false;
+}
+
+// A strictly convex polygon (every turn strictly left about `normal` in the projection that
+// drops its largest component, and the edge directions turning once: the x-direction of the
+// edges changes sign exactly twice) is simple; is_simple_face decides every other face.
+bool strictly_convex(const Vec3* p, std::uint32_t n, const Vec3& normal) {
+  if (n < 3) return false;
+  int a = 0;
+  normal.cwiseAbs().maxCoeff(&a);
+  int u = (a + 1) % 3, v = (a + 2) % 3;
+  if (normal[a] < 0) std::swap(u, v);
+  int changes = 0, last = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 &x = p[i], &y = p[(i + 1) % n], &z = p[(i + 2) % n];
+    const double turn = (y[u] - x[u]) * (z[v] - y[v]) - (y[v] - x[v]) * (z[u] - y[u]);
+    if (!(turn > 0.0)) return false;
+    const double dx = y[u] - x[u];
+    const int sg = dx > 0.0 ? 1 : dx < 0.0 ? -1 : 0;
+    if (sg != 0) {
+      if (last != 0 && sg != last) ++changes;
+      last = sg;
+    }
+  }
+  // (the change across the closing edge, from the last signed edge to the first)
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double dx = p[(i + 1) % n][u] - p[i][u];
+    const int sg = dx > 0.0 ? 1 : dx < 0.0 ? -1 : 0;
+    if (sg != 0) {
+      if (sg != last) ++changes;
+      break;
+    }
+  }
+  return changes == 2;
 }
 
 }  // namespace
@@ -56,41 +104,133 @@ bool edge_pierces(const Face& f, const Face& g, double eps) {
 bool self_intersects(const Complex& surface) {
   if (surface.ambient_dim() != 3 || surface.top_rank() < 2) return false;
   const std::uint32_t nf = static_cast<std::uint32_t>(surface.count(2));
-  std::vector<Face> faces(nf);
+  thread_local Faces F;
+  const Incidence& faces = surface.boundary(2);
+  const Incidence& edges = surface.boundary(1);
+  const Eigen::MatrixXd& P = surface.positions();
+  F.off.resize(nf + 1);
+  F.off[0] = 0;
+  F.ids.clear();
+  F.pts.clear();
+  F.normal.resize(nf);
+  F.lo.resize(nf);
+  F.hi.resize(nf);
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
   for (std::uint32_t f = 0; f < nf; ++f) {
-    if (!is_simple_face(surface, f)) return true;
-    Face& F = faces[f];
-    F.cycle = surface.face_cycle(f);
+    // The cycle: the tail of each edge as the face traverses it (Complex::face_cycle).
+    const auto ids = faces.ids(f);
+    const auto signs = faces.signs(f);
+    const std::uint32_t b = static_cast<std::uint32_t>(F.pts.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const auto e = edges.ids(ids[i]);
+      const std::uint32_t v = signs[i] > 0 ? e[0] : e[1];
+      F.ids.push_back(v);
+      F.pts.push_back(P.col(v));
+    }
+    const std::uint32_t n = static_cast<std::uint32_t>(F.pts.size()) - b;
+    F.off[f + 1] = b + n;
     Vec3 area = Vec3::Zero();
-    for (auto v : F.cycle) F.pts.push_back(surface.positions().col(v));
-    for (std::size_t i = 0; i < F.pts.size(); ++i) area += F.pts[i].cross(F.pts[(i + 1) % F.pts.size()]);
-    F.normal = area.normalized();
-    F.lo = F.hi = F.pts[0];
-    for (const Vec3& p : F.pts) F.lo = F.lo.cwiseMin(p), F.hi = F.hi.cwiseMax(p);
-    std::sort(F.cycle.begin(), F.cycle.end());
-    lo = lo.cwiseMin(F.lo);
-    hi = hi.cwiseMax(F.hi);
+    for (std::uint32_t i = 0; i < n; ++i) area += F.pts[b + i].cross(F.pts[b + (i + 1) % n]);
+    if (!strictly_convex(&F.pts[b], n, area) && !is_simple_face(surface, f)) return true;
+    F.normal[f] = area.normalized();
+    Vec3 flo = F.pts[b], fhi = F.pts[b];
+    for (std::uint32_t i = 1; i < n; ++i)
+      flo = flo.cwiseMin(F.pts[b + i]), fhi = fhi.cwiseMax(F.pts[b + i]);
+    F.lo[f] = flo;
+    F.hi[f] = fhi;
+    std::sort(F.ids.begin() + b, F.ids.end());
+    lo = lo.cwiseMin(flo);
+    hi = hi.cwiseMax(fhi);
   }
   const double eps = tol::self_intersection_rel * (hi - lo).norm();
-  // Sweep along x over the bounding boxes; faces sharing a vertex are neighbours of a surface
-  // and are not compared (a crossing between them is not detected).
-  std::vector<std::uint32_t> order(nf);
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return faces[a].lo.x() < faces[b].lo.x(); });
-  for (std::size_t i = 0; i < nf; ++i) {
-    const Face& F = faces[order[i]];
-    for (std::size_t j = i + 1; j < nf && faces[order[j]].lo.x() <= F.hi.x() + eps; ++j) {
-      const Face& G = faces[order[j]];
-      if ((F.lo.array() > G.hi.array() + eps).any() || (G.lo.array() > F.hi.array() + eps).any())
-        continue;
-      std::vector<std::uint32_t> shared;
-      std::set_intersection(F.cycle.begin(), F.cycle.end(), G.cycle.begin(), G.cycle.end(),
-                            std::back_inserter(shared));
-      if (!shared.empty()) continue;
-      if (edge_pierces(F, G, eps) || edge_pierces(G, F, eps)) return true;
+  // Pairs of faces whose boxes (grown by eps) overlap, through a uniform grid of cells of about
+  // the mean face extent: each face is listed in the cells its box covers, and a pair is
+  // tested in the one cell holding the lower corner of the two boxes' intersection. Faces
+  // sharing a vertex are neighbours of a surface and are not compared (a crossing between them
+  // is not detected).
+  double mean = 0.0;
+  for (std::uint32_t f = 0; f < nf; ++f) mean += (F.hi[f] - F.lo[f]).maxCoeff();
+  mean = nf > 0 ? mean / nf : 0.0;
+  const Vec3 span = hi - lo;
+  double h = std::max({mean, span.maxCoeff() / 1024.0, eps, 1e-300});
+  int g[3];
+  for (;;) {
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      g[a] = std::max(1, static_cast<int>(std::min(1024.0, std::ceil(span[a] / h))));
+      cells *= g[a];
     }
+    if (cells <= 32.0 * nf + 64.0) break;
+    h *= 1.5;
   }
+  const double inv_h = 1.0 / h;
+  auto cell_of = [&](const Vec3& x, int a) {
+    return std::clamp(static_cast<int>((x[a] - lo[a]) * inv_h), 0, g[a] - 1);
+  };
+  const std::size_t ncell = static_cast<std::size_t>(g[0]) * g[1] * g[2];
+  thread_local std::vector<std::uint32_t> cell_off, cell_ids;
+  cell_off.assign(ncell + 1, 0);
+  const Vec3 grow = Vec3::Constant(eps);
+  // Faces covering more than 27 cells (much larger than the mean) are tested against every
+  // face instead, so no pair is met in many cells.
+  thread_local std::vector<char> big;
+  big.assign(nf, 0);
+  auto range = [&](std::uint32_t f, int* r) {
+    const Vec3 a = F.lo[f] - grow, b = F.hi[f] + grow;
+    for (int k = 0; k < 3; ++k) r[2 * k] = cell_of(a, k), r[2 * k + 1] = cell_of(b, k);
+    return (r[1] - r[0] + 1) * (r[3] - r[2] + 1) * (r[5] - r[4] + 1);
+  };
+  auto for_cells = [&](std::uint32_t f, auto&& fn) {
+    int r[6];
+    range(f, r);
+    for (int z = r[4]; z <= r[5]; ++z)
+      for (int y = r[2]; y <= r[3]; ++y)
+        for (int x = r[0]; x <= r[1]; ++x) fn((static_cast<std::size_t>(z) * g[1] + y) * g[0] + x);
+  };
+  thread_local std::vector<std::uint32_t> bigs;
+  bigs.clear();
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    int r[6];
+    if (range(f, r) > 27) {
+      big[f] = 1;
+      bigs.push_back(f);
+      continue;
+    }
+    for_cells(f, [&](std::size_t c) { ++cell_off[c + 1]; });
+  }
+  for (std::size_t c = 0; c < ncell; ++c) cell_off[c + 1] += cell_off[c];
+  cell_ids.resize(cell_off[ncell]);
+  thread_local std::vector<std::uint32_t> fill;
+  fill.assign(cell_off.begin(), cell_off.end() - 1);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    if (!big[f]) for_cells(f, [&](std::size_t c) { cell_ids[fill[c]++] = f; });
+  auto overlap = [&](std::uint32_t f, std::uint32_t q) {
+    const Vec3 &flo = F.lo[f], &fhi = F.hi[f], &glo = F.lo[q], &ghi = F.hi[q];
+    return !(flo.x() > ghi.x() + eps || flo.y() > ghi.y() + eps || flo.z() > ghi.z() + eps ||
+             glo.x() > fhi.x() + eps || glo.y() > fhi.y() + eps || glo.z() > fhi.z() + eps);
+  };
+  auto test = [&](std::uint32_t f, std::uint32_t q) {
+    if (share_vertex(F, f, q)) return false;
+    return edge_pierces(F, f, q, eps) || edge_pierces(F, q, f, eps);
+  };
+  for (std::size_t c = 0; c < ncell; ++c)
+    for (std::uint32_t i = cell_off[c]; i < cell_off[c + 1]; ++i) {
+      const std::uint32_t f = cell_ids[i];
+      for (std::uint32_t j = i + 1; j < cell_off[c + 1]; ++j) {
+        const std::uint32_t q = cell_ids[j];
+        if (!overlap(f, q)) continue;
+        const Vec3 corner = F.lo[f].cwiseMax(F.lo[q]) - grow;
+        if ((static_cast<std::size_t>(cell_of(corner, 2)) * g[1] + cell_of(corner, 1)) * g[0] +
+                cell_of(corner, 0) !=
+            c)
+          continue;  // (tested in the cell of the lower corner of the boxes' intersection)
+        if (test(f, q)) return true;
+      }
+    }
+  for (std::size_t i = 0; i < bigs.size(); ++i)
+    for (std::uint32_t q = 0; q < nf; ++q)
+      if (q != bigs[i] && (!big[q] || q > bigs[i]) && overlap(bigs[i], q) && test(bigs[i], q))
+        return true;
   return false;
 }
 

@@ -5,15 +5,15 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
+#include <cstring>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <string>
 #include <thread>
 #include <unordered_map>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
@@ -24,15 +24,6 @@ namespace {
 
 constexpr std::uint32_t none = 0xffffffffu;
 constexpr int kMaxDim = 4;
-
-// Joins every started thread when it goes out of scope, also when starting another one threw.
-struct JoinAll {
-  std::vector<std::thread>& pool;
-  ~JoinAll() {
-    for (auto& t : pool)
-      if (t.joinable()) t.join();
-  }
-};
 
 // Resizes v to `want` elements, moving dropped ones to `spare` and taking new ones from it, so
 // that their own storage is kept.
@@ -112,6 +103,20 @@ bool every_element_bounds(const Complex& c, int below_rank) {
 }
 
 }  // namespace
+
+const char* to_string(FallbackReason r) {
+  switch (r) {
+    case FallbackReason::None: return "none";
+    case FallbackReason::Model: return "model";
+    case FallbackReason::OnPlane: return "on-plane";
+    case FallbackReason::Weld: return "weld";
+    case FallbackReason::FaceCut: return "face-cut";
+    case FallbackReason::CellCut: return "cell-cut";
+    case FallbackReason::Multiplicity: return "multiplicity";
+    case FallbackReason::NearParallel: return "near-parallel";
+  }
+  return "?";
+}
 
 // --- SliceModel -------------------------------------------------------------------------------
 
@@ -300,6 +305,22 @@ void SliceModel::find_single_solid() {
 }
 
 void SliceModel::build_cofaces() {
+  // Edge lengths, for the weld test of each crossing (summed in the order crossing() used to).
+  {
+    const Rank& E = ranks_[1];
+    const std::size_t ne = E.offsets.size() - 1;
+    edge_length_.resize(ne);
+    const double* P = positions_.data();
+    for (std::size_t e = 0; e < ne; ++e) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      double len2 = 0.0;
+      for (int j = 0; j < dim_; ++j) {
+        const double d = P[b * dim_ + j] - P[a * dim_ + j];
+        len2 += d * d;
+      }
+      edge_length_[e] = std::sqrt(len2);
+    }
+  }
   up_offsets_.assign(top_, {});
   up_ids_.assign(top_, {});
   for (int k = 1; k < top_; ++k) {
@@ -318,8 +339,35 @@ void SliceModel::build_cofaces() {
   }
 }
 
+bool SliceModel::compiled_from(const Complex& c) const {
+  if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
+  const auto same = [](const auto* a, const auto* b, std::size_t count) {
+    return count == 0 || std::memcmp(a, b, count * sizeof(*a)) == 0;
+  };
+  const Eigen::MatrixXd& p = c.positions();
+  const Eigen::MatrixXd& fn = c.facet_normals();
+  if (!fast_) return false;  // (nothing compiled but the verdict)
+  if (!vertex_id_.empty() || static_cast<std::size_t>(p.size()) != positions_.size() ||
+      static_cast<std::size_t>(fn.size()) != facet_normals_.size() ||
+      !same(p.data(), positions_.data(), positions_.size()) ||
+      !same(fn.data(), facet_normals_.data(), facet_normals_.size()))
+    return false;
+  for (int k = 1; k <= top_; ++k) {
+    const Incidence& t = c.boundary(k);
+    const Rank& r = ranks_[k];
+    if (!r.model_id.empty() || t.offsets().size() != r.offsets.size() ||
+        t.all_ids().size() != r.ids.size() ||
+        !same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
+        !same(t.all_ids().data(), r.ids.data(), r.ids.size()) ||
+        !same(t.all_signs().data(), r.signs.data(), r.signs.size()))
+      return false;
+  }
+  return true;
+}
+
 std::size_t SliceModel::bytes() const {
-  std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) + facet_normals_.size() * sizeof(double) +
+  std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+                  facet_normals_.size() * sizeof(double) +
                   vertex_id_.size() * 4 + cluster_vertex_.size() * 4 +
                   cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
@@ -431,8 +479,7 @@ struct Slicer::Placement {
     double nt = 0.0;
     for (int i = 0; i < n; ++i) nt += plane->normal[i] * t[i];
     dm = d - nt;
-    const double scale = nm_norm * m.max_norm_ + std::abs(dm);
-    tol = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
+    tol = on_plane_tolerance(nm_norm, m.max_norm_, dm);
     const int o = n - 1;
     for (int r = 0; r < o; ++r) {
       double sum = 0.0;
@@ -462,6 +509,7 @@ void clear_to_empty(SliceBuffers& out, int dim) {
   out.vertex_source.clear();
   out.set_ranks(0);  // (no tables: the empty section has only rank 0)
   out.facet_normals.clear();
+  out.fallback = FallbackReason::None;
 }
 
 }  // namespace
@@ -495,6 +543,8 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
     ++cached_count_;
     return;
   }
+  reason_ = FallbackReason::None;
+  kernel_ = options.kernel;
   if (!fast_slice(m, pl, options, out)) general();
 }
 
@@ -512,6 +562,7 @@ void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const A
   out.facet_normals.assign(c.facet_normals().data(),
                            c.facet_normals().data() + c.facet_normals().size());
   out.general = true;
+  out.fallback = m.fast() ? reason_ : FallbackReason::Model;
   out.reused_topology = false;
   out.cache_valid_ = false;
 }
@@ -525,7 +576,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
   for (const Term& t : chain) {
     const auto e = edges.ids(t.id);
     const int sign = t.coef > 0 ? 1 : -1;
-    if (std::abs(t.coef) != 1) return false;
+    if (std::abs(t.coef) != 1) return fail(FallbackReason::Multiplicity);
     steps_.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
   }
   // With distinct tails any sort gives the general path's order (repeated tails, a pinched
@@ -537,7 +588,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
     std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
   }
   for (std::size_t i = 1; i < steps_.size(); ++i)
-    if (steps_[i].tail == steps_[i - 1].tail) return false;
+    if (steps_[i].tail == steps_[i - 1].tail) return fail(FallbackReason::CellCut);
   auto find_from = [&](std::uint32_t tail) -> Step* {
     auto it = std::lower_bound(steps_.begin(), steps_.end(), tail,
                                [](const Step& s, std::uint32_t v) { return s.tail < v; });
@@ -562,7 +613,7 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
       }
       cur = find_from(cur->head);
     }
-    if (!closed || row_ids_.size() < 3) return false;  // the general path drops these
+    if (!closed || row_ids_.size() < 3) return fail(FallbackReason::CellCut);  // (dropped there)
     image.push_back({static_cast<std::uint32_t>(faces.size()), 1});
     faces.add_row(row_ids_, row_signs_);
     out.source[2].push_back(source);
@@ -579,7 +630,7 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
   const std::uint32_t model_x = R.model_id.empty() ? x : R.model_id[x];
   if (k == 2) {
     if (chain_.size() != 2 || chain_[0].coef != -chain_[1].coef || std::abs(chain_[0].coef) != 1)
-      return false;  // a face cut in more than two points: the general path
+      return fail(FallbackReason::FaceCut);  // cut in more than two points: the general path
     const bool first_is_tail = chain_[0].coef < 0;
     const std::uint32_t ends[2] = {first_is_tail ? chain_[0].id : chain_[1].id,
                                    first_is_tail ? chain_[1].id : chain_[0].id};
@@ -596,7 +647,7 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
     row_ids_.clear();
     row_signs_.clear();
     for (const Term& t : chain_) {
-      if (std::abs(t.coef) != 1) return false;
+      if (std::abs(t.coef) != 1) return fail(FallbackReason::Multiplicity);
       row_ids_.push_back(t.id);
       row_signs_.push_back(static_cast<std::int8_t>(t.coef));
     }
@@ -650,6 +701,7 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   const int n = m.dim_;
   out.reused_topology = false;
   out.general = false;
+  out.fallback = FallbackReason::None;
   out.cache_valid_ = false;
   out.dim = n - 1;
   out.plane.normal = pl.plane->normal;
@@ -663,23 +715,16 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
 }
 
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
-  const int n = m.dim_;
-  const double* P = m.positions_.data();
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
-  double len2 = 0.0;
-  for (int j = 0; j < n; ++j) {
-    const double d = P[b * n + j] - P[a * n + j];
-    len2 += d * d;
-  }
-  const double len = std::sqrt(len2);
+  const double len = m.edge_length_[e];
   *t_out = t;
   return !(t * len <= m.weld_ || (1.0 - t) * len <= m.weld_);  // near an end: welding, general
 }
 
 bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
   double t;
-  if (!crossing(m, e, &t)) return false;
+  if (!crossing(m, e, &t)) return fail(FallbackReason::Weld);
   const SliceModel::Rank& E = m.ranks_[1];
   const std::uint32_t a = E.ids[2 * e];
   const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
@@ -712,11 +757,11 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const S
   if (touched_.size() == nc && nc > 1) {
     const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
     for (std::uint32_t v = 0; v < nv; ++v)
-      if (!value(v)) return false;
+      if (!value(v)) return fail(FallbackReason::OnPlane);
   } else {
     for (auto c : touched_)
       for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-        if (!value(m.cluster_vertices_[i])) return false;
+        if (!value(m.cluster_vertices_[i])) return fail(FallbackReason::OnPlane);
   }
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
@@ -769,7 +814,107 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
       if (produced > 0 && k < top) mark_parents(m, k, x);
       return true;
     };
-    auto visit = [&](std::uint32_t b, std::uint32_t e) { return visit_marked(bits, b, e, process); };
+    // The specialised kernel. A convex face is cut in exactly two crossings: one section edge
+    // from the crossing whose chain coefficient is -1 to the one with +1, as the generic
+    // gathering gives after combine_chain. A cell whose faces each gave one section edge is
+    // chained through a next map (the step leaving each section vertex, stamped per cell) from
+    // its smallest tail; when that one loop uses every step it is the polygon emit_loops
+    // builds (loops start at the smallest tail, steps follow heads). Anything else (more
+    // crossings, a face twice, a pinch, several loops, an open chain) goes to `process`, which
+    // decides it exactly as before. Returns 1 when done, -1 for `process`.
+    Incidence& out_edges = out.boundary[0];
+    auto face_kernel = [&](std::uint32_t x) -> int {
+      std::uint32_t v[2];
+      int c[2];
+      int cnt = 0;
+      for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
+        const Image img = below[ids[i]];
+        if (img.gen != gen) continue;
+        if (cnt == 2) return -1;
+        const Term& t = below_terms[img.begin];
+        v[cnt] = t.id;
+        c[cnt] = -signs[i] * t.coef;
+        ++cnt;
+      }
+      if (cnt != 2 || v[0] == v[1] || c[0] != -c[1]) return -1;
+      const std::uint32_t ends[2] = {c[0] < 0 ? v[0] : v[1], c[0] < 0 ? v[1] : v[0]};
+      static constexpr std::int8_t kEdgeSigns[2] = {-1, 1};
+      const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
+      terms_[k].push_back({static_cast<std::uint32_t>(out_edges.size()), 1});
+      out_edges.add_row(ends, kEdgeSigns);
+      out.source[1].push_back(R.model_id.empty() ? x : R.model_id[x]);
+      if (k == fr) facet_internal_.push_back(x);
+      images_[k][x] = {gen, first, 1};
+      if (k < top) mark_parents(m, k, x);
+      return 1;
+    };
+    const std::uint32_t* edge_ends = out_edges.all_ids().data();
+    auto cell_kernel = [&](std::uint32_t x) -> int {
+      if (++stamp_ == 0) {  // wrapped: forget every stamp
+        std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
+        std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
+        stamp_ = 1;
+      }
+      const std::uint32_t st = stamp_;
+      steps_.clear();
+      std::uint32_t lo = none, start = 0;
+      for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
+        const Image img = below[ids[i]];
+        if (img.gen != gen) continue;
+        if (img.count != 1) return -1;
+        const Term& t = below_terms[img.begin];
+        if (edge_stamp_[t.id] == st) return -1;
+        edge_stamp_[t.id] = st;
+        const int sign = -signs[i] * t.coef;
+        const std::uint32_t tail = edge_ends[2 * t.id + (sign > 0 ? 0 : 1)];
+        const std::uint32_t head = edge_ends[2 * t.id + (sign > 0 ? 1 : 0)];
+        if (vertex_stamp_[tail] == st) return -1;  // a pinch
+        vertex_stamp_[tail] = st;
+        vertex_next_[tail] = static_cast<std::uint32_t>(steps_.size());
+        if (tail < lo) lo = tail, start = static_cast<std::uint32_t>(steps_.size());
+        steps_.push_back({tail, head, t.id, sign, false});
+      }
+      const std::size_t ns = steps_.size();
+      if (ns < 3) return -1;
+      row_ids_.clear();
+      row_signs_.clear();
+      std::uint32_t cur = start;
+      for (;;) {
+        const Step& sp = steps_[cur];
+        row_ids_.push_back(sp.edge);
+        row_signs_.push_back(static_cast<std::int8_t>(sp.sign));
+        if (sp.head == lo) break;
+        if (row_ids_.size() == ns || vertex_stamp_[sp.head] != st) return -1;
+        cur = vertex_next_[sp.head];
+      }
+      if (row_ids_.size() != ns) return -1;  // several loops
+      Incidence& faces = out.boundary[1];
+      const std::uint32_t first = static_cast<std::uint32_t>(terms_[k].size());
+      terms_[k].push_back({static_cast<std::uint32_t>(faces.size()), 1});
+      faces.add_row(row_ids_, row_signs_);
+      out.source[2].push_back(R.model_id.empty() ? x : R.model_id[x]);
+      if (k == fr) facet_internal_.push_back(x);
+      images_[k][x] = {gen, first, 1};
+      if (k < top) mark_parents(m, k, x);
+      return 1;
+    };
+    const bool use_kernel = kernel_ && (k == 2 || (k == 3 && fr == 3));
+    if (use_kernel && k == 3) {
+      const std::size_t nsv = out.vertex_source.size(), nse = out_edges.size();
+      if (vertex_stamp_.size() < nsv) vertex_stamp_.resize(nsv, 0), vertex_next_.resize(nsv);
+      if (edge_stamp_.size() < nse) edge_stamp_.resize(nse, 0);
+    }
+    auto kernel_process = [&](std::uint32_t x) -> bool {
+      if ((k == 2 ? face_kernel(x) : cell_kernel(x)) > 0) {
+        ++kernel_count_;
+        return true;
+      }
+      ++generic_count_;
+      return process(x);
+    };
+    auto visit = [&](std::uint32_t b, std::uint32_t e) {
+      return use_kernel ? visit_marked(bits, b, e, kernel_process) : visit_marked(bits, b, e, process);
+    };
     if (k == top && m.single_solid_ && k == 3) {
       // The one solid of a polyhedron: its cut's boundary is every section edge, with the
       // sign of the edge's facet in the solid (no gathering over the solid's long row).
@@ -850,41 +995,64 @@ bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers&
   return write_geometry(m, pl, out, section_edge, facet_internal);
 }
 
+namespace {
+
+// The vertex and facet-normal passes of write_geometry with the dimension fixed at compile
+// time (the loops unroll; the arithmetic is the same, term for term). False when a facet is
+// nearly parallel to the plane.
+template <int N>
+bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M,
+                   const double* c, const double* Nm, const double* facet_normals,
+                   std::span<const std::uint32_t> section_edge, const VertexSource* source,
+                   std::span<const std::uint32_t> facet_internal, double* coords,
+                   double* normals) {
+  constexpr int O = N - 1;
+  // Vertices: y = M ((1 - t) a + t b) + c.
+  for (std::size_t i = 0; i < section_edge.size(); ++i) {
+    const std::uint32_t e = section_edge[i];
+    const double* pa = P + edge_ids[2 * e] * N;
+    const double* pb = P + edge_ids[2 * e + 1] * N;
+    const double t = source[i].t;
+    double x[N];
+    for (int j = 0; j < N; ++j) x[j] = (1.0 - t) * pa[j] + t * pb[j];
+    for (int r = 0; r < O; ++r) {
+      double sum = c[r];
+      for (int j = 0; j < N; ++j) sum += M[r * N + j] * x[j];
+      coords[i * O + r] = sum;
+    }
+  }
+  // Facet normals: the model facets' normals through A^{-T}, projected, unit.
+  for (std::size_t f = 0; f < facet_internal.size(); ++f) {
+    const double* nf = facet_normals + facet_internal[f] * N;
+    double y[O], len2 = 0.0;
+    for (int r = 0; r < O; ++r) {
+      double sum = 0.0;
+      for (int j = 0; j < N; ++j) sum += Nm[r * N + j] * nf[j];
+      y[r] = sum;
+      len2 += sum * sum;
+    }
+    const double len = std::sqrt(len2);
+    // Nearly parallel to the plane: the general path's area vector.
+    if (len < tol::near_parallel_normal) return false;
+    for (int r = 0; r < O; ++r) normals[f * O + r] = y[r] / len;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                             std::span<const std::uint32_t> section_edge,
                             std::span<const std::uint32_t> facet_internal) {
   const int n = m.dim_;
   const int o = n - 1;
-  const double* P = m.positions_.data();
-  // Vertices: y = M ((1 - t) a + t b) + c.
   out.coords.resize(section_edge.size() * o);
-  for (std::size_t i = 0; i < section_edge.size(); ++i) {
-    const std::uint32_t e = section_edge[i];
-    const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
-    const double t = out.vertex_source[i].t;
-    double x[kMaxDim];
-    for (int j = 0; j < n; ++j) x[j] = (1.0 - t) * P[a * n + j] + t * P[b * n + j];
-    for (int r = 0; r < o; ++r) {
-      double sum = pl.c[r];
-      for (int j = 0; j < n; ++j) sum += pl.M[r * n + j] * x[j];
-      out.coords[i * o + r] = sum;
-    }
-  }
-  // Facet normals: the model facets' normals through A^{-T}, projected, unit.
   out.facet_normals.resize(facet_internal.size() * o);
-  for (std::size_t f = 0; f < facet_internal.size(); ++f) {
-    const double* nf = &m.facet_normals_[facet_internal[f] * n];
-    double y[kMaxDim], len2 = 0.0;
-    for (int r = 0; r < o; ++r) {
-      double sum = 0.0;
-      for (int j = 0; j < n; ++j) sum += pl.N[r * n + j] * nf[j];
-      y[r] = sum;
-      len2 += sum * sum;
-    }
-    const double len = std::sqrt(len2);
-    if (len < 1e-9) return false;  // nearly parallel to the plane: the general path's area vector
-    for (int r = 0; r < o; ++r) out.facet_normals[f * o + r] = y[r] / len;
-  }
+  const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
+  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N,
+            m.facet_normals_.data(), section_edge, out.vertex_source.data(), facet_internal,
+            out.coords.data(), out.facet_normals.data()))
+    return fail(FallbackReason::NearParallel);
   return true;
 }
 
@@ -917,6 +1085,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   if (!write_geometry(m, pl, out, out.cache_edge_, out.cache_facet_)) return false;
   out.reused_topology = true;
   out.general = false;
+  out.fallback = FallbackReason::None;
   return true;
 }
 
@@ -938,7 +1107,7 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return offsets[a] < offsets[b]; });
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = resolve_threads(threads);
   threads = static_cast<unsigned>(std::min<std::size_t>(threads, order.size()));
   if (threads <= 1) {
     sweep_layers(m, proto, xf, offsets, order, out);
@@ -949,27 +1118,15 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   if (helpers_.size() < threads - 1) helpers_.resize(threads - 1);
   std::vector<std::size_t> before(threads - 1);
   for (unsigned t = 0; t + 1 < threads; ++t) before[t] = helpers_[t].fast_count_;
-  std::vector<std::thread> pool;
   const std::size_t per = (order.size() + threads - 1) / threads;
-  std::exception_ptr failure;
-  std::mutex failure_lock;
-  auto run = [&](Slicer& slicer, std::size_t b, std::size_t e) {
-    try {
-      slicer.sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b), out);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_lock);
-      if (!failure) failure = std::current_exception();
-    }
-  };
-  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
-  for (unsigned t = 1; t < threads; ++t) {
+  fork_join(threads, [&](unsigned t) {
     const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
-    if (b < e) pool.emplace_back([&, t, b, e] { run(helpers_[t - 1], b, e); });
-  }
-  run(*this, 0, std::min(per, order.size()));
-  for (auto& th : pool) th.join();  // (JoinAll covers a throw while starting them)
+    if (b < e)
+      (t == 0 ? *this : helpers_[t - 1])
+          .sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b),
+                        out);
+  });
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
-  if (failure) std::rethrow_exception(failure);
 }
 
 void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
@@ -977,6 +1134,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
                           std::vector<SliceBuffers>& out) {
   const std::size_t L = layers.size();
   if (L == 0) return;
+  kernel_ = true;
   auto single = [&](std::uint32_t k) {
     slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
   };
@@ -1122,7 +1280,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
   out.resize(objects_.size());
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = resolve_threads(threads);
   threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
   // The culling pass: one flat array of world-space spheres.
@@ -1148,44 +1306,29 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
         clear_to_empty(out[i], dim_ - 1);
         out[i].plane = plane;
         out[i].general = !objects_[i].model->fast();  // as the general path's empty result
+        out[i].fallback = out[i].general ? FallbackReason::Model : FallbackReason::None;
         out[i].reused_topology = false;
         continue;
       }
       slicers_[t].slice(*objects_[i].model, plane, objects_[i].transform, out[i], options);
     }
   };
-  if (threads == 1) {
-    run(0, 0, objects_.size());
-    return;
-  }
   // Blocks of consecutive objects; each thread writes only its own entries of out.
   const std::size_t per = (objects_.size() + threads - 1) / threads;
-  std::vector<std::thread> pool;
-  std::exception_ptr failure;
-  std::mutex failure_lock;
-  JoinAll join_all{pool};  // (declared last: joins before what the threads use is gone)
-  for (unsigned t = 1; t < threads; ++t)
-    pool.emplace_back([&, t] {
-      try {
-        run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_lock);
-        if (!failure) failure = std::current_exception();
-      }
-    });
-  try {
-    run(0, 0, std::min(objects_.size(), per));
-  } catch (...) {
-    std::lock_guard<std::mutex> lock(failure_lock);
-    if (!failure) failure = std::current_exception();
-  }
-  for (auto& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+  fork_join(threads, [&](unsigned t) {
+    run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
+  });
 }
 
 // --- conversion -----------------------------------------------------------------------------
 
 Section to_section(const SliceBuffers& b) {
+  Section sec = to_section_untested(b);
+  sec.self_intersecting = self_intersects(sec.complex);
+  return sec;
+}
+
+Section to_section_untested(const SliceBuffers& b) {
   Section sec;
   const int dim = b.dim;
   sec.frame = HyperplaneFrame(b.plane);
@@ -1201,7 +1344,6 @@ Section to_section(const SliceBuffers& b) {
   sec.source = b.source;
   if (sec.source.empty()) sec.source.resize(1);
   sec.complex = std::move(c);
-  sec.self_intersecting = self_intersects(sec.complex);
   return sec;
 }
 

@@ -71,32 +71,149 @@ double TetSection::area() const {
   return a / 2.0;
 }
 
+namespace {
+
+// The cut when no vertex is on the plane (every crossing is interior to its edge, no triangle
+// degenerates, no face lies in the plane): the masks once, the output sized once, each cut
+// tetrahedron written straight into its final columns. The same triangles, in the same order
+// and orientation, as the general loop of slice_tets.
+void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
+                 const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset,
+                 const Eigen::Matrix<double, 3, 4>& NB, TetSection& out) {
+  const std::size_t T = mesh.size();
+  thread_local std::vector<std::uint8_t> mask_store;
+  mask_store.resize(T);
+  std::uint8_t* masks = mask_store.data();
+  // Triangles per sign mask: none for 0 and 15, two for the quads (two corners each side).
+  static constexpr std::uint8_t kTris[16] = {0, 1, 1, 2, 1, 2, 2, 1, 1, 2, 2, 1, 2, 1, 1, 0};
+  std::size_t tris = 0;
+  const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
+  for (std::size_t t = 0; t < T; ++t) {
+    const auto& tv = tets[t];
+    const int mask = (side[tv[0]] > Side::On) | ((side[tv[1]] > Side::On) << 1) |
+                     ((side[tv[2]] > Side::On) << 2) | ((side[tv[3]] > Side::On) << 3);
+    masks[t] = static_cast<std::uint8_t>(mask);
+    tris += kTris[mask];
+  }
+  const auto n = static_cast<Eigen::Index>(3 * tris);
+  if (out.positions.cols() != n) out.positions.resize(3, n);
+  if (out.normals.cols() != n) out.normals.resize(3, n);
+  if (out.uvw.cols() != n) out.uvw.resize(3, n);
+  out.corners.resize(3 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
+  const double* P = mesh.positions.data();
+  const double* UVW = mesh.corner_uvw.data();
+  thread_local std::vector<std::uint32_t> cell_stamp;
+  thread_local std::vector<Eigen::Vector3d> cell_n3;
+  thread_local std::uint32_t stamp = 0;
+  if (cell_stamp.size() < mesh.cell_count()) cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(mesh.cell_count());
+  if (++stamp == 0) {  // wrapped: forget every stamp
+    std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
+    stamp = 1;
+  }
+  std::size_t w = 0;  // triangles written
+  for (std::size_t t = 0; t < T; ++t) {
+    const int mask = masks[t];
+    if (mask == 0 || mask == 15) continue;
+    const TetCutCase& cc = kTetCutTable[static_cast<std::size_t>(mask)];
+    const auto& tv = mesh.tets[t];
+    // The projected normal once per cell (every tetrahedron of a cell has the same one).
+    const std::uint32_t cell = mesh.tet_cell[t];
+    if (cell_stamp[cell] != stamp) {
+      cell_stamp[cell] = stamp;
+      cell_n3[cell] = (NB * mesh.cell_normals.col(cell)).normalized();
+    }
+    const Eigen::Vector3d n3 = cell_n3[cell];
+    Eigen::Vector3d pos[4], uvw[4];
+    TetCutPoint cut[4];
+    for (int e = 0; e < cc.count; ++e) {
+      int ka = cc.edges[static_cast<std::size_t>(e)][0],
+          kb = cc.edges[static_cast<std::size_t>(e)][1];
+      std::uint32_t a = tv[static_cast<std::size_t>(ka)], b = tv[static_cast<std::size_t>(kb)];
+      if (a > b) {
+        std::swap(a, b);
+        std::swap(ka, kb);
+      }
+      const double u = s[a] / (s[a] - s[b]);
+      cut[e] = {a, b, u};
+      const Eigen::Map<const Eigen::Vector4d> pa(P + 4 * a), pb(P + 4 * b);
+      pos[e] = W * ((1.0 - u) * pa + u * pb) + offset;
+      const Eigen::Map<const Eigen::Vector3d> ua(UVW + 3 * (4 * t + static_cast<std::size_t>(ka))),
+          ub(UVW + 3 * (4 * t + static_cast<std::size_t>(kb)));
+      uvw[e] = (1.0 - u) * ua + u * ub;
+    }
+    const Eigen::Vector3d m =
+        (pos[1] - pos[0]).cross(pos[2] - pos[0]) +
+        (cc.count == 4 ? (pos[2] - pos[0]).cross(pos[3] - pos[0]) : Eigen::Vector3d::Zero());
+    const bool reverse = m.dot(n3) < 0.0;
+    auto emit = [&](int i0, int i1, int i2) {
+      if (reverse) std::swap(i1, i2);
+      const int c[3] = {i0, i1, i2};
+      for (int k = 0; k < 3; ++k) {
+        const auto col = static_cast<Eigen::Index>(3 * w + static_cast<std::size_t>(k));
+        out.positions.col(col) = pos[c[k]];
+        out.normals.col(col) = n3;
+        out.uvw.col(col) = uvw[c[k]];
+        out.corners[3 * w + static_cast<std::size_t>(k)] = cut[c[k]];
+      }
+      out.tet[w] = static_cast<std::uint32_t>(t);
+      out.cell[w] = mesh.tet_cell[t];
+      ++w;
+    };
+    emit(0, 1, 2);
+    if (cc.count == 4) emit(0, 2, 3);
+  }
+}
+
+}  // namespace
+
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
   return slice_tets(mesh, plane, AffineTransform::identity(4));
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+  TetSection out;
+  slice_tets(mesh, plane, xf, out);
+  return out;
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
+  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSection& out) {
   if (plane.dim() != 4)
     throw InputError("slice_tets: hyperplane in R^" + std::to_string(plane.dim()) + ", not R^4");
   if (xf.dim() != 4)
     throw InputError("slice_tets: transform of R^" + std::to_string(xf.dim()) + ", not R^4");
-  TetSection out;
   out.frame = HyperplaneFrame(plane);
+  out.corners.clear();
+  out.tet.clear();
+  out.cell.clear();
   // The plane in model space: (A^T n).x = d - n.t (as cw4d::section does).
   const Eigen::Vector4d nm = xf.linear().transpose() * plane.normal;
   const double dm = plane.offset - plane.normal.dot(xf.translation());
   const auto& p = mesh.positions;
   const auto nv = static_cast<std::size_t>(p.cols());
-  std::vector<double> s(nv);
+  // Per-thread scratch, kept between slices.
+  thread_local std::vector<double> s;
+  thread_local std::vector<Side> side;
+  thread_local std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
+  thread_local std::vector<TetCutPoint> cut_buf;
+  s.resize(nv);
+  side.resize(nv);
+  all_pos.clear();
+  all_nrm.clear();
+  all_uvw.clear();
   double max_norm2 = 0.0;
   for (std::size_t v = 0; v < nv; ++v) {
     const auto x = p.col(static_cast<Eigen::Index>(v));
     s[v] = nm.dot(x) - dm;
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
-  const double scale = nm.norm() * std::sqrt(max_norm2) + std::abs(dm);
-  const double tolerance = tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
-  std::vector<Side> side(nv);
+  const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   bool any_neg = false, any_pos = false, any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
     side[v] = classify_side(s[v], tolerance);
@@ -104,7 +221,22 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
     any_pos |= side[v] == Side::Positive;
     any_on |= side[v] == Side::On;
   }
-  if (!any_pos && !any_neg) return out;  // everything on the plane: a flat model
+  const auto finish = [&] {
+    const auto n = static_cast<Eigen::Index>(all_pos.size());
+    if (out.positions.cols() != n) out.positions.resize(3, n);
+    if (out.normals.cols() != n) out.normals.resize(3, n);
+    if (out.uvw.cols() != n) out.uvw.resize(3, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto j = static_cast<std::size_t>(i);
+      out.positions.col(i) = all_pos[j];
+      out.normals.col(i) = all_nrm[j];
+      out.uvw.col(i) = all_uvw[j];
+    }
+  };
+  if (!any_pos && !any_neg) {  // everything on the plane: a flat model
+    finish();
+    return;
+  }
 
   // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
   const Eigen::Matrix4d lin = xf.linear();
@@ -113,20 +245,19 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
   const Eigen::Matrix<double, 3, 4> bt = basis.transpose();
   const Eigen::Vector3d offset = bt * (xf.translation() - out.frame.origin());
 
-  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf;
-  std::vector<TetCutPoint> cut_buf;
-  std::vector<Eigen::Vector3d> all_pos, all_nrm, all_uvw;
   // One pass of the cut; on-plane vertices count as positive or negative.
   auto run = [&](bool on_is_positive) {
+    // Corner k counts as positive when its side is at least `floor` (Side: -1, 0, +1).
+    const int floor = on_is_positive ? 0 : 1;
+    const Side* sd = side.data();
     for (std::size_t t = 0; t < mesh.size(); ++t) {
       const auto& tv = mesh.tets[t];
-      int mask = 0;
-      for (int k = 0; k < 4; ++k) {
-        const Side sd = side[tv[static_cast<std::size_t>(k)]];
-        if (sd == Side::Positive || (sd == Side::On && on_is_positive)) mask |= 1 << k;
-      }
+      const int mask = (static_cast<int>(sd[tv[0]]) >= floor) |
+                       ((static_cast<int>(sd[tv[1]]) >= floor) << 1) |
+                       ((static_cast<int>(sd[tv[2]]) >= floor) << 2) |
+                       ((static_cast<int>(sd[tv[3]]) >= floor) << 3);
+      if (mask == 0 || mask == 15) continue;  // all on one side: nothing to cut
       const TetCutCase& cc = kTetCutTable[static_cast<std::size_t>(mask)];
-      if (cc.count == 0) continue;
       const Eigen::Vector4d n4 = normal_map * mesh.tet_normal(t);
       const Eigen::Vector3d n3 = (bt * n4).normalized();
       pos_buf.clear();
@@ -184,6 +315,7 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
     }
     // A tetrahedron face lying in the plane between two tetrahedra on the same side is emitted by
     // both, with opposite orientations: the pieces cancel as chains (as in cw4d::section).
+    if (!any_on) return;  // (corners at vertices need vertices on the plane)
     std::map<std::array<std::uint32_t, 3>, std::vector<std::size_t>> flat;
     for (std::size_t i = 0; i < out.tet.size(); ++i) {
       std::array<std::uint32_t, 3> key{};
@@ -225,19 +357,13 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
   };
   // On counts as positive; when that leaves nothing (the plane touches the model from below),
   // as negative, so that a facet lying in the plane is returned (as cw4d::section does).
+  if (!any_on) {
+    cut_generic(mesh, s.data(), side.data(), bt * lin, offset, bt * normal_map, out);
+    return;
+  }
   run(true);
   if (out.tet.empty() && any_on) run(false);
-  const auto n = static_cast<Eigen::Index>(all_pos.size());
-  out.positions.resize(3, n);
-  out.normals.resize(3, n);
-  out.uvw.resize(3, n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto j = static_cast<std::size_t>(i);
-    out.positions.col(i) = all_pos[j];
-    out.normals.col(i) = all_nrm[j];
-    out.uvw.col(i) = all_uvw[j];
-  }
-  return out;
+  finish();
 }
 
 Section to_section(const TetSection& slice, const Complex& model) {

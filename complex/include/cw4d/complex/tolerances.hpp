@@ -15,6 +15,12 @@ inline constexpr double plane_side_ulps = 64.0;
 /// near-duplicate vertices; the collapsed pieces cancel as chains.
 inline constexpr double weld_rel = 1e-9;
 
+/// A model facet whose unit normal, moved into the section's frame and projected onto the
+/// plane, is shorter than near_parallel_normal is nearly parallel to the plane: its section
+/// facet's normal is taken from the section's own geometry (its area vector) instead, by
+/// section() and by the slicer (which leaves such slices to the general path).
+inline constexpr double near_parallel_normal = 1e-9;
+
 /// Self-intersection test of a section (cw4d::self_intersects): a boundary edge pierces another
 /// face only when its ends lie farther than self_intersection_rel * (bounding-box diagonal) on
 /// both sides of that face's plane, so faces that merely touch are not reported.

@@ -3,7 +3,11 @@
 // orthonormal frame in which sections are expressed.
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
+
+#include "cw4d/complex/tolerances.hpp"
 
 namespace cw4d {
 
@@ -53,6 +57,14 @@ inline Side classify_side(double signed_distance, double tolerance) {
   if (signed_distance > tolerance) return Side::Positive;
   if (signed_distance < -tolerance) return Side::Negative;
   return Side::On;
+}
+
+/// The ON band classify_side is given for the plane n.x = d (model space) over vertices of
+/// norm at most max_norm: tol::plane_side_ulps units of rounding of |n| max_norm + |d|, the
+/// bound on the error of computing n.x - d. The one formula every section path uses.
+inline double on_plane_tolerance(double normal_norm, double max_norm, double offset) {
+  const double scale = normal_norm * max_norm + std::abs(offset);
+  return tol::plane_side_ulps * std::numeric_limits<double>::epsilon() * scale;
 }
 
 /// Orthonormal basis (n x (n-1), one column per basis vector) of the hyperplane directions,

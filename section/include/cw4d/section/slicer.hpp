@@ -37,6 +37,21 @@
 
 namespace cw4d {
 
+/// Why a slice left the fast path for the general layered cut (SliceBuffers::fallback).
+enum class FallbackReason : std::uint8_t {
+  None,          ///< the fast path made the buffers
+  Model,         ///< the model is not fast() (dimension, no facet normals, ...)
+  OnPlane,       ///< a vertex lies within the ON band of the plane
+  Weld,          ///< a crossing lies within the weld distance of an edge's end
+  FaceCut,       ///< a face cut in more than two points (or whose cut does not cancel)
+  CellCut,       ///< a cell cut whose loops pinch or do not close
+  Multiplicity,  ///< a chain coefficient other than +-1
+  NearParallel,  ///< a facet nearly parallel to the plane (projected normal below the cut-off)
+};
+inline constexpr int kFallbackReasonCount = 8;
+const char* to_string(FallbackReason r);
+#define CW4D_SLICE_FALLBACK_REASON 1
+
 struct SliceModelOptions {
   /// Models with at least this many facets are split into clusters of cells for culling.
   std::size_t cluster_threshold = 4096;
@@ -64,6 +79,10 @@ class SliceModel {
   std::size_t cluster_count() const { return cluster_vertex_.size() - 1; }
   const Eigen::VectorXd& centre() const { return centre_; }
   double radius() const { return radius_; }
+  /// Whether this is the unclustered compilation of `model` as it is now: the same object and
+  /// bit for bit the same positions, boundary tables and facet normals (a cheap linear check,
+  /// for caches of compiled models).
+  bool compiled_from(const Complex& model) const;
   /// Bytes of the compiled arrays (not counting the model).
   std::size_t bytes() const;
 
@@ -91,6 +110,7 @@ class SliceModel {
   std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
   std::vector<double> facet_normals_;    // dim_ per internal facet
+  std::vector<double> edge_length_;      // per internal edge
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
@@ -116,6 +136,7 @@ struct SliceBuffers {
   std::vector<std::vector<std::uint32_t>> source;  ///< source[r]: model element of rank r + 1
   std::vector<double> facet_normals;  ///< dim per facet (rank dim - 1), unit
   bool general = false;               ///< true when the general path made these buffers
+  FallbackReason fallback = FallbackReason::None;  ///< why, when general
   bool reused_topology = false;       ///< true when the topology cache answered the last slice
 
   std::size_t count(int rank) const {
@@ -156,6 +177,10 @@ struct SliceOptions {
   /// it, came from the same model, and no vertex changed side (only the crossing parameters,
   /// positions and normals are recomputed). Slices that do not ask keep no cache.
   bool reuse_topology = false;
+  /// Cut faces and cells with the specialised kernel (face -> crossing pair, cell -> one loop
+  /// through a next map); false uses only the generic chain gathering, which gives the same
+  /// buffers bit for bit (for tests and benchmarks).
+  bool kernel = true;
 };
 
 /// Scratch space for slicing; one per thread. Not thread-safe itself.
@@ -187,6 +212,9 @@ class Slicer {
   /// Fast-path slices since construction, and how many of them the topology cache answered.
   std::size_t fast_slices() const { return fast_count_; }
   std::size_t cached_slices() const { return cached_count_; }
+  /// Faces and cells the specialised kernel cut, and those it passed to the generic gathering.
+  std::size_t kernel_elements() const { return kernel_count_; }
+  std::size_t generic_elements() const { return generic_count_; }
 
  private:
   struct Term {
@@ -256,7 +284,17 @@ class Slicer {
   std::vector<char> layer_bad_;
   std::vector<std::uint32_t> sweep_order_;
   std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
-  std::size_t fast_count_ = 0, cached_count_ = 0;
+  std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
+  FallbackReason reason_ = FallbackReason::None;
+  bool fail(FallbackReason r) {
+    reason_ = r;
+    return false;
+  }
+  bool kernel_ = true;
+  // Kernel scratch: per section vertex the step leaving it in the current cell (stamped), per
+  // section edge a stamp (a face listed twice in a cell goes to the generic gathering).
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
 };
 
 /// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every

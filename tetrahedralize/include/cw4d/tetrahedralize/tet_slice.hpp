@@ -65,6 +65,12 @@ extern const std::array<TetCutCase, 16> kTetCutTable;
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane,
                       const AffineTransform& model_to_world);
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane);
+/// The same slice written into `out`, whose storage is reused (per-thread scratch inside: no
+/// allocation per tetrahedron or per slice once the buffers have grown).
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
+                TetSection& out);
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
+#define CW4D_TET_SLICE_INTO 1
 
 /// The slice as a Section of `model` (the complex the mesh was made from): a 3D complex of the
 /// triangles with welded vertices, source cells in source[2], facet normals (the projected cell

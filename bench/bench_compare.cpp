@@ -1,0 +1,182 @@
+// The benchmarks bench/compare.sh runs from two builds (an older commit and the working tree)
+// in alternating rounds. Only API that both have is used, so the same source is compiled
+// against both; newer entry points are used where the headers announce them (feature macros).
+//
+// Per model (tesseract, 24-cell, 120-cell, 600-cell, duoprism:32,32, omnitruncated 120-cell):
+//   slice     Slicer::slice over a fixed list of 256 generic planes (bench::generic_planes)
+//   fixed     Slicer::slice with the plane n ~ (0.5377, 1.8339, -2.2588, 0.8622), offset
+//             0.1 x circumradius
+//   vertex    Slicer::slice with planes through a vertex (the degenerate, general path)
+//   section   cw4d::section(model, plane) over the generic planes
+//   tet       slice_tets over the model's tetrahedral mesh, the generic planes
+//   sweep     Slicer::sweep of 256 parallel layers (the fixed normal, offsets evenly spaced
+//             inside +-0.95 circumradius), the time of the whole sweep
+// Output: one line per case, "case <name> <nanoseconds per operation> <units>" where units is
+// what one operation processes (tetrahedra for tet), and "fallback" lines where supported.
+//
+//   bench_compare [--min-time SECONDS] [--filter SUBSTRING]
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bench_options.hpp"
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
+
+namespace {
+
+double g_min_time = 0.25;
+const char* g_filter = nullptr;
+std::atomic<std::size_t> g_sink{0};
+
+using Clock = std::chrono::steady_clock;
+
+// Runs op(i) for i = 0, 1, ... in batches until min_time has passed; the time per call.
+double time_per_op(const std::function<void(std::size_t)>& op) {
+  for (std::size_t i = 0; i < 4; ++i) op(i);  // warm the scratch
+  std::size_t total = 0, batch = 1;
+  double elapsed = 0.0;
+  while (elapsed < g_min_time) {
+    const auto t0 = Clock::now();
+    for (std::size_t i = 0; i < batch; ++i) op(total + i);
+    elapsed += std::chrono::duration<double>(Clock::now() - t0).count();
+    total += batch;
+    if (batch < (1u << 20)) batch *= 2;
+  }
+  return elapsed * 1e9 / static_cast<double>(total);
+}
+
+void report(const std::string& name, double ns, double units) {
+  std::printf("case %s %.6g %.6g\n", name.c_str(), ns, units);
+  std::fflush(stdout);
+}
+
+bool wanted(const std::string& name) {
+  return !g_filter || name.find(g_filter) != std::string::npos;
+}
+
+Eigen::VectorXd fixed_normal() {
+  Eigen::VectorXd n(4);
+  n << 0.5377, 1.8339, -2.2588, 0.8622;
+  return n.normalized();
+}
+
+void run_model(const std::string& spec, const std::string& label, bool tets) {
+  bool any = false;
+  for (const char* kind : {"/slice", "/fixed", "/vertex", "/section", "/sweep", "/tet"})
+    any |= wanted(label + kind);
+  if (!any) return;
+  const cw4d::Complex model = cw4d::load_model(spec);
+  const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
+  const std::vector<cw4d::Hyperplane> planes = cw4d::bench::generic_planes(model, 256, 20240401u);
+  const double radius = cw4d::max_radius(model);
+  const Eigen::VectorXd nf = fixed_normal();
+  const cw4d::Hyperplane fixed{nf, 0.1 * radius};
+  std::vector<cw4d::Hyperplane> through;  // planes through vertices (generic normals)
+  for (std::size_t i = 0; i < 16; ++i) {
+    const Eigen::VectorXd& n = planes[i].normal;
+    const Eigen::VectorXd x =
+        model.position(static_cast<std::uint32_t>((i * 7919) % model.count(0)));
+    through.push_back({n, n.dot(x)});
+  }
+  cw4d::Slicer slicer;
+  cw4d::SliceBuffers out;
+  if (wanted(label + "/slice"))
+    report(label + "/slice", time_per_op([&](std::size_t i) {
+             slicer.slice(compiled, planes[i % planes.size()], out);
+             g_sink += out.vertex_source.size();
+           }),
+           1);
+  if (wanted(label + "/fixed"))
+    report(label + "/fixed", time_per_op([&](std::size_t) {
+             slicer.slice(compiled, fixed, out);
+             g_sink += out.vertex_source.size();
+           }),
+           1);
+  if (wanted(label + "/vertex"))
+    report(label + "/vertex", time_per_op([&](std::size_t i) {
+             slicer.slice(compiled, through[i % through.size()], out);
+             g_sink += out.vertex_source.size();
+           }),
+           1);
+  if (wanted(label + "/section"))
+    report(label + "/section", time_per_op([&](std::size_t i) {
+             const cw4d::Section s = cw4d::section(model, planes[i % planes.size()]);
+             g_sink += s.vertex_source.size();
+           }),
+           1);
+  if (wanted(label + "/sweep")) {
+    std::vector<double> offsets(256);
+    for (std::size_t i = 0; i < offsets.size(); ++i)
+      offsets[i] = radius * (-0.95 + 1.9 * (static_cast<double>(i) + 0.5) / 256.0);
+    const cw4d::AffineTransform id = cw4d::AffineTransform::identity(4);
+    std::vector<cw4d::SliceBuffers> layers;
+    report(label + "/sweep", time_per_op([&](std::size_t) {
+             slicer.sweep(compiled, nf, offsets, id, layers);
+             g_sink += layers.size();
+           }),
+           256);
+  }
+  if (tets && wanted(label + "/tet")) {
+    const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
+#ifdef CW4D_TET_SLICE_INTO
+    cw4d::TetSection ts;
+    report(label + "/tet", time_per_op([&](std::size_t i) {
+             cw4d::slice_tets(mesh, planes[i % planes.size()], ts);
+             g_sink += ts.triangle_count();
+           }),
+           static_cast<double>(mesh.size()));
+#else
+    report(label + "/tet", time_per_op([&](std::size_t i) {
+             const cw4d::TetSection ts = cw4d::slice_tets(mesh, planes[i % planes.size()]);
+             g_sink += ts.triangle_count();
+           }),
+           static_cast<double>(mesh.size()));
+#endif
+  }
+#ifdef CW4D_SLICE_FALLBACK_REASON
+  // Why slices of the generic planes and of the planes through vertices took the general path.
+  std::size_t counts[cw4d::kFallbackReasonCount] = {};
+  for (const auto& p : planes)
+    slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
+  for (const auto& p : through)
+    slicer.slice(compiled, p, out), ++counts[static_cast<int>(out.fallback)];
+  std::printf("fallback %s", label.c_str());
+  for (int r = 0; r < cw4d::kFallbackReasonCount; ++r)
+    if (counts[r])
+      std::printf(" %s=%zu", cw4d::to_string(static_cast<cw4d::FallbackReason>(r)), counts[r]);
+  std::printf("\n");
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--min-time") && i + 1 < argc) {
+      g_min_time = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--filter") && i + 1 < argc) {
+      g_filter = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: bench_compare [--min-time SECONDS] [--filter SUBSTRING]\n");
+      return 2;
+    }
+  }
+  run_model("tesseract", "tesseract", true);
+  run_model("24-cell", "24-cell", true);
+  run_model("120-cell", "120-cell", true);
+  run_model("600-cell", "600-cell", true);
+  run_model("duoprism:32,32", "duoprism32", true);
+  run_model("omnitruncated 120-cell", "omni120", false);
+  return g_sink.load() == 0xdeadbeef ? 1 : 0;
+}

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Old/new ratios of the section, tet and sweep benchmarks (bench/bench_compare.cpp).
+#
+#   bench/compare.sh [REF] [ROUNDS] [MIN_TIME]      (defaults: 1da183a, 3, 0.25)
+#
+# Builds REF in a temporary git worktree and the working tree (Release, Ninja, ccache), both
+# with the working tree's bench_compare.cpp (it uses only API both have), runs the two programs
+# in alternating rounds (old, new, old, new, ...) and prints per case the median time of each
+# and old/new. Nothing outside the checkout and /tmp is written; the worktree is removed.
+# BENCH_MODELS="tesseract/ 600-cell/" restricts the models (case name prefixes).
+set -euo pipefail
+ref=${1:-1da183a}
+rounds=${2:-3}
+min_time=${3:-0.25}
+root=$(cd "$(dirname "$0")/.." && pwd)
+tmp=$(mktemp -d /tmp/cw4d-compare.XXXXXX)
+old_tree="$tmp/old"
+cleanup() {
+  git -C "$root" worktree remove --force "$old_tree" >/dev/null 2>&1 || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+export CCACHE_NOHASHDIR=1
+git -C "$root" worktree add --detach "$old_tree" "$ref" >/dev/null 2>&1
+cp "$root/bench/bench_compare.cpp" "$old_tree/bench/"
+if ! grep -q bench_compare "$old_tree/bench/CMakeLists.txt"; then
+  cat >>"$old_tree/bench/CMakeLists.txt" <<'CMAKE'
+add_executable(bench_compare bench_compare.cpp)
+target_link_libraries(bench_compare PRIVATE cw4d_tetrahedralize cw4d_section cw4d_complex
+  cw4d_settings)
+CMAKE
+fi
+build() {  # source dir, build dir
+  CCACHE_BASEDIR="$1" cmake -S "$1" -B "$2" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  CCACHE_BASEDIR="$1" cmake --build "$2" -j2 --target bench_compare >/dev/null
+}
+echo "building $ref ..." >&2
+build "$old_tree" "$tmp/build-old"
+echo "building the working tree ..." >&2
+new_build=${NEW_BUILD:-$root/build}
+build "$root" "$new_build"
+old_bin="$tmp/build-old/bench/bench_compare"
+new_bin="$new_build/bench/bench_compare"
+# Alternating per model (the load of a shared machine drifts within a run): old, new, old, ...
+models=${BENCH_MODELS:-"tesseract/ 24-cell/ 120-cell/ 600-cell/ duoprism32/ omni120/"}
+for ((r = 1; r <= rounds; ++r)); do
+  echo "round $r/$rounds ..." >&2
+  for m in $models; do
+    "$old_bin" --min-time "$min_time" --filter "$m" | sed 's/^/old /' >>"$tmp/runs.txt"
+    "$new_bin" --min-time "$min_time" --filter "$m" | sed 's/^/new /' >>"$tmp/runs.txt"
+  done
+done
+echo "# bench/compare.sh $ref $rounds $min_time  ($(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet || echo '+dirty') vs $(git -C "$root" rev-parse --short "$ref"), $rounds alternating rounds, medians)"
+awk '
+  $2 == "case" { t[$1, $3] = t[$1, $3] " " $4; u[$3] = $5; if (!($3 in seen)) { seen[$3] = 1; order[n++] = $3 } }
+  $2 == "fallback" && $1 == "new" { fb[$3] = $0 }
+  function median(s,   a, k, i, j, x) {
+    k = split(s, a, " ")
+    for (i = 2; i <= k; ++i) { x = a[i]; for (j = i - 1; j >= 1 && a[j] > x; --j) a[j + 1] = a[j]; a[j + 1] = x }
+    return k % 2 ? a[(k + 1) / 2] : (a[k / 2] + a[k / 2 + 1]) / 2
+  }
+  function fmt(ns) { return ns >= 1e6 ? sprintf("%.3g ms", ns / 1e6) : ns >= 1e3 ? sprintf("%.3g us", ns / 1e3) : sprintf("%.3g ns", ns) }
+  END {
+    printf "%-22s %12s %12s %9s %s\n", "case", "old", "new", "old/new", "new per unit"
+    for (i = 0; i < n; ++i) {
+      c = order[i]; o = median(t["old", c]); w = median(t["new", c])
+      printf "%-22s %12s %12s %8.2fx %s\n", c, fmt(o), fmt(w), o / w, (u[c] > 1 ? fmt(w / u[c]) : "")
+    }
+    for (c in fb) { sub(/^new fallback /, "", fb[c]); print "fallback (new) " fb[c] }
+  }' "$tmp/runs.txt"
