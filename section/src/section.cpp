@@ -251,7 +251,13 @@ void Cutter::emit_faces(std::vector<Term>& chain, std::uint32_t source, std::vec
     for (int i = 0; i < std::abs(t.coef); ++i)
       steps.push_back({sign > 0 ? e[0] : e[1], sign > 0 ? e[1] : e[0], t.id, sign, false});
   }
-  std::sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+  // A total order (steps leaving one vertex by edge, then direction), so the loops a vertex
+  // starts several of come out the same with every standard library's sort.
+  std::sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) {
+    if (a.tail != b.tail) return a.tail < b.tail;
+    if (a.edge != b.edge) return a.edge < b.edge;
+    return a.sign < b.sign;
+  });
   auto find_from = [&](std::uint32_t tail) -> Step* {
     auto it = std::lower_bound(steps.begin(), steps.end(), tail,
                                [](const Step& s, std::uint32_t v) { return s.tail < v; });

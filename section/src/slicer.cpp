@@ -581,11 +581,19 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
   }
   // With distinct tails any sort gives the general path's order (repeated tails, a pinched
   // cut, are left to the general path); a cell's cut usually has a handful of steps.
+  // A total order (steps leaving one vertex by edge, then direction), so the loops a vertex
+  // starts several of come out the same with every standard library's sort.
+  const auto before = [](const Step& a, const Step& b) {
+    if (a.tail != b.tail) return a.tail < b.tail;
+    if (a.edge != b.edge) return a.edge < b.edge;
+    return a.sign < b.sign;
+  };
   if (steps_.size() <= 16) {
     for (std::size_t i = 1; i < steps_.size(); ++i)
-      for (std::size_t j = i; j > 0 && steps_[j].tail < steps_[j - 1].tail; --j) std::swap(steps_[j], steps_[j - 1]);
+      for (std::size_t j = i; j > 0 && before(steps_[j], steps_[j - 1]); --j)
+        std::swap(steps_[j], steps_[j - 1]);
   } else {
-    std::sort(steps_.begin(), steps_.end(), [](const Step& a, const Step& b) { return a.tail < b.tail; });
+    std::sort(steps_.begin(), steps_.end(), before);
   }
   for (std::size_t i = 1; i < steps_.size(); ++i)
     if (steps_[i].tail == steps_[i - 1].tail) return fail(FallbackReason::CellCut);

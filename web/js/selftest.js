@@ -21,6 +21,9 @@ export const CASES = [
   { file: 'samples/Icositetrachoron.off', rotate: [['xw', 20]], normal: [0, 0, 0, 1], offset: 0.1 },
   { file: 'samples/Cantellated icositetrachoron.off', rotate: [['yw', 7]],
     normal: [0, 0, 1, 1], offset: 0.05 },
+  // A star polychoron: self-intersecting cells whose cuts start several loops at one vertex.
+  { file: 'samples/Grand stellated hecatonicosachoron.off', rotate: [['yw', 7]],
+    normal: [0, 0, 1, 1], offset: 0.05 },
   // Degenerate: the plane through a facet of the tesseract (the general path).
   { spec: 'tesseract', rotate: [], normal: [0, 0, 0, 1], offset: 1.0 },
 ];
