@@ -554,13 +554,16 @@ std::vector<ModelFamily> default_families() {
             "triangles and trapezoids), N = 3..1000",
             make_uv_sphere);
   add_round("duocylinder", "duocylinder:R,N",
-            "N-gon x N-gon, both of circumradius R (-> duocylinder, volume pi^2 R^4), N = 3..1000",
+            "N-gon x N-gon, both of circumradius R (-> duocylinder, volume pi^2 R^4), N = 3..706 "
+            "(a product has at most 2e6 elements)",
             make_duocylinder);
   add_round("cubinder", "cubinder:R,N",
             "N-gon of circumradius R x square [-R,R]^2 (-> cubinder, volume 4 pi R^4), N = 3..1000",
             make_cubinder);
   add_round("spherinder", "spherinder:R,N",
-            "sphere:R,N x [-R,R] (-> spherinder, volume 8/3 pi R^4), N = 3..1000", make_spherinder);
+            "sphere:R,N x [-R,R] (-> spherinder, volume 8/3 pi R^4), N = 3..577 (a product has "
+            "at most 2e6 elements)",
+            make_spherinder);
   // Non-convex toratopes (toratopes.hpp): solids of revolution of a torus or a sphere.
   auto add_toratope = [&f](const char* head, const char* usage, const char* description,
                            int radii, std::function<Complex(const std::vector<double>&, int)> make) {
