@@ -35,9 +35,9 @@
 
 namespace {
 
-using cw4d::test::vec;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
+using cw4d::test::vec;
 
 struct TempDir : cw4d::test::TempDir {
   TempDir() : cw4d::test::TempDir("cw4d_test_export") {}
@@ -69,9 +69,9 @@ tinygltf::Model load_glb(const std::string& bytes) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
-  const bool ok = loader.LoadBinaryFromMemory(
-      &model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
-      static_cast<unsigned>(bytes.size()));
+  const bool ok = loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                              reinterpret_cast<const unsigned char*>(bytes.data()),
+                                              static_cast<unsigned>(bytes.size()));
   INFO(err << warn);
   REQUIRE(ok);
   return model;
@@ -83,7 +83,8 @@ Eigen::MatrixXd read_floats(const tinygltf::Model& m, int a) {
   REQUIRE(acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT);
   const int comps = tinygltf::GetNumComponentsInType(acc.type);
   const auto& view = m.bufferViews.at(acc.bufferView);
-  const unsigned char* base = m.buffers.at(view.buffer).data.data() + view.byteOffset + acc.byteOffset;
+  const unsigned char* base =
+      m.buffers.at(view.buffer).data.data() + view.byteOffset + acc.byteOffset;
   const std::size_t stride = view.byteStride ? view.byteStride : sizeof(float) * comps;
   Eigen::MatrixXd out(comps, acc.count);
   for (std::size_t i = 0; i < acc.count; ++i)
@@ -110,7 +111,8 @@ Soup soup_of(const tinygltf::Model& m, const tinygltf::Primitive& prim) {
   const auto idx = read_indices(m, prim.indices);
   Soup s;
   for (Eigen::Index i = 0; i < pos.cols(); ++i) s.p.emplace_back(pos.col(i));
-  for (std::size_t k = 0; k + 2 < idx.size(); k += 3) s.t.push_back({idx[k], idx[k + 1], idx[k + 2]});
+  for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
+    s.t.push_back({idx[k], idx[k + 1], idx[k + 2]});
   return s;
 }
 
@@ -242,7 +244,8 @@ TEST_CASE("glTF: the tesseract cut at w = d is the cube [-1,1]^3 with its cells 
   const cw4d::Complex tesseract = cw4d::load_model("tesseract");
   for (double d : {-0.5, 0.0, 0.25, 0.9}) {
     INFO("d = " << d);
-    const cw4d::Section sec = cw4d::section(tesseract, cw4d::Hyperplane::from(vec({0, 0, 0, 1}), d));
+    const cw4d::Section sec =
+        cw4d::section(tesseract, cw4d::Hyperplane::from(vec({0, 0, 0, 1}), d));
     const tinygltf::Model m = load_glb(cw4d::glb_bytes(nodes_of(sec, tesseract)));
     REQUIRE(m.meshes.size() == 1);
     REQUIRE(m.meshes[0].primitives.size() == 1);
@@ -261,8 +264,7 @@ TEST_CASE("glTF: the tesseract cut at w = d is the cube [-1,1]^3 with its cells 
     // Normals: unit, and those of the triangles' own geometry.
     const Eigen::MatrixXd normal = read_floats(m, prim.attributes.at("NORMAL"));
     for (const auto& t : s.t) {
-      const Eigen::Vector3d g =
-          (s.p[t[1]] - s.p[t[0]]).cross(s.p[t[2]] - s.p[t[0]]).normalized();
+      const Eigen::Vector3d g = (s.p[t[1]] - s.p[t[0]]).cross(s.p[t[2]] - s.p[t[0]]).normalized();
       for (auto v : t) CHECK((normal.col(v) - g).norm() < 1e-6);
     }
     // _CELL_ID: the 4D point (p, d) lies on the hyperplane of that cell of the tesseract.
@@ -364,7 +366,7 @@ TEST_CASE("glTF: a scene gives one node per object it meets, with its colors and
     const Eigen::MatrixXd cell = read_floats(m, prim.attributes.at("_CELL_ID"));
     for (Eigen::Index v = 0; v < color.cols(); ++v) {
       // COLOR_0 is linear: sRGB 0.5 is ((0.5 + 0.055) / 1.055)^2.4 = 0.21404 (IEC 61966-2-1).
-      const Eigen::Vector4d expected = k == 1               ? Eigen::Vector4d(0, 1, 0, 0.25)
+      const Eigen::Vector4d expected = k == 1              ? Eigen::Vector4d(0, 1, 0, 0.25)
                                        : cell(0, v) == 0.0 ? Eigen::Vector4d(0, 0, 1, 1)
                                                            : Eigen::Vector4d(1, 0.21404, 0, 1);
       CHECK((color.col(v) - expected).norm() < 1e-5);
@@ -439,8 +441,9 @@ TEST_CASE("glTF: .gltf JSON with its .bin, written atomically; bad paths leave n
   std::string err, warn;
   REQUIRE(loader.LoadASCIIFromFile(&m, &err, &warn, path));
   const Soup s = soup_of(m, m.meshes.at(0).primitives.at(0));
-  CHECK_THAT(soup_volume(s),
-             WithinRel(cw4d::test::bspline_section_volume(model, sec.frame.plane.normal, 0.3), 1e-5));
+  CHECK_THAT(
+      soup_volume(s),
+      WithinRel(cw4d::test::bspline_section_volume(model, sec.frame.plane.normal, 0.3), 1e-5));
 
   CHECK_THROWS_AS(cw4d::write_gltf_file((dir / "a.bin").string(), nodes), cw4d::InputError);
   cw4d::GltfOptions binary;
@@ -475,9 +478,9 @@ TEST_CASE("PLY: binary, welded per color into a watertight mesh with the oracle'
     // One color: the section's own vertices, shared, and a closed coherent surface.
     CHECK(ply.soup.p.size() == sec.complex.count(0));
     CHECK(watertight(ply.soup));
-    CHECK_THAT(soup_volume(ply.soup),
-               WithinRel(cw4d::test::bspline_section_volume(model, plane.normal, plane.offset),
-                         1e-4));
+    CHECK_THAT(
+        soup_volume(ply.soup),
+        WithinRel(cw4d::test::bspline_section_volume(model, plane.normal, plane.offset), 1e-4));
     for (const auto& c : ply.color) CHECK(c == std::array<unsigned char, 4>{200, 200, 200, 255});
   }
 }
@@ -487,7 +490,8 @@ TEST_CASE("PLY: colors are sRGB bytes, vertices split only where colors change",
   const cw4d::Hyperplane plane = cw4d::Hyperplane::from(vec({0, 0, 0, 1}), 0.0);
   const std::uint32_t cut_cell = cw4d::section(cw4d::load_model("tesseract"), plane).source[2][0];
   std::istringstream json(R"({"objects": [{"model": "tesseract", "color": [0.5, 0.25, 1],
-      "opacity": 0.5, "cell_colors": {")" + std::to_string(cut_cell) + R"(": [1, 0, 0]}}]})");
+      "opacity": 0.5, "cell_colors": {")" +
+                          std::to_string(cut_cell) + R"(": [1, 0, 0]}}]})");
   const cw4d::Scene scene = cw4d::read_scene(json, "inline");
   const cw4d::Section sec = cw4d::section_scene(scene, plane);
   const std::string path = (dir / "c.ply").string();
@@ -523,9 +527,9 @@ TEST_CASE("STL: binary triangles with outward normals and the oracle's volume", 
                                     .normalized();
       CHECK(stl.normal[k].dot(g) > 1 - 1e-4);
     }
-    CHECK_THAT(soup_volume(stl.soup),
-               WithinRel(cw4d::test::bspline_section_volume(model, plane.normal, plane.offset),
-                         1e-4));
+    CHECK_THAT(
+        soup_volume(stl.soup),
+        WithinRel(cw4d::test::bspline_section_volume(model, plane.normal, plane.offset), 1e-4));
   }
   CHECK_THROWS_AS(cw4d::write_stl_file((dir / "none.stl").string(), {}), cw4d::InputError);
   CHECK(!dir.exists("none.stl"));
@@ -553,8 +557,10 @@ TEST_CASE("OBJ: a scene's section starts each object with an `o` line named afte
       objects.push_back(line.substr(2));
       faces_of.push_back(0);
     } else if (line.rfind("f ", 0) == 0) {
-      if (objects.empty()) face_before_first_object = true;
-      else ++faces_of.back();
+      if (objects.empty())
+        face_before_first_object = true;
+      else
+        ++faces_of.back();
     }
   }
   CHECK_FALSE(face_before_first_object);
@@ -579,7 +585,8 @@ TEST_CASE("OBJ: `vt u v w` per corner, referenced as v/vt/vn, inside [0,1]^3", "
   opt.uvw = &uvw;
   std::istringstream text(cw4d::obj_text(sec, opt));
   std::size_t corners = 0, vts = 0, vs = 0, vns = 0;
-  for (std::uint32_t f = 0; f < sec.complex.count(2); ++f) corners += sec.complex.face_cycle(f).size();
+  for (std::uint32_t f = 0; f < sec.complex.count(2); ++f)
+    corners += sec.complex.face_cycle(f).size();
   std::vector<Eigen::Vector3d> vt;
   std::string line;
   std::size_t face = 0;
@@ -624,7 +631,8 @@ TEST_CASE("OBJ: `vt u v w` per corner, referenced as v/vt/vn, inside [0,1]^3", "
 
 TEST_CASE("UVW: every facet's box maps its own vertices onto [0,1]^3, touching 0 and 1",
           "[export][uvw]") {
-  for (const char* spec : {"tesseract", "24-cell", "120-cell", "duoprism:3,8", "truncated 5-cell"}) {
+  for (const char* spec :
+       {"tesseract", "24-cell", "120-cell", "duoprism:3,8", "truncated 5-cell"}) {
     const cw4d::Complex model = cw4d::load_model(spec);
     const auto maps = cw4d::facet_texture_maps(model);
     REQUIRE(maps.size() == model.count(3));

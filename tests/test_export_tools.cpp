@@ -37,8 +37,7 @@ void validate(const TempDir& dir, const std::vector<std::string>& files) {
   INFO("glTF-Validator:\n" << r.out << r.err);
   REQUIRE(r.code != 2);  // the validator itself could not run (see ./setup.sh test)
   CHECK(r.code == 0);
-  for (const auto& f : files)
-    CHECK(r.out.find(f + ": errors 0 warnings 0") != std::string::npos);
+  for (const auto& f : files) CHECK(r.out.find(f + ": errors 0 warnings 0") != std::string::npos);
 }
 
 struct AssimpCounts {
@@ -80,14 +79,15 @@ long corners_of(const cw4d::Section& s) {
 
 }  // namespace
 
-TEST_CASE("slice: glTF, GLB, OBJ, PLY and STL open in the validator and assimp with the "
-          "section's counts",
-          "[export][tools]") {
+TEST_CASE(
+    "slice: glTF, GLB, OBJ, PLY and STL open in the validator and assimp with the "
+    "section's counts",
+    "[export][tools]") {
   TempDir dir;
   for (const char* spec : {"tesseract", "24-cell", "120-cell"}) {
     INFO(spec);
-    const std::vector<std::string> cut{"--rotate", "xw:30", "--rotate", "yw:20", "--normal",
-                                       "0,0,0,1", "--offset", "0.3"};
+    const std::vector<std::string> cut{"--rotate", "xw:30",   "--rotate", "yw:20",
+                                       "--normal", "0,0,0,1", "--offset", "0.3"};
     const cw4d::Complex model = cw4d::load_model(spec);
     const cw4d::AffineTransform xf =
         cw4d::AffineTransform::rotation(4, 1, 3, cw4d::test::radians(20)) *
@@ -176,17 +176,19 @@ TEST_CASE("sweep: numbered files in a folder, empty layers reported and not writ
   // A layer that cannot be written (its path is a directory): exit 4, and the layers written
   // before it are removed again.
   std::filesystem::create_directories(dir / "fail/layer_002.ply");
-  const Result fail = cw4d::test::run_program(
-      dir, CW4D_EXE, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-0.5", "--to", "0.5",
-                      "--layers", "4", "--format", "ply", "-o", "fail"});
+  const Result fail =
+      cw4d::test::run_program(dir, CW4D_EXE,
+                              {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-0.5",
+                               "--to", "0.5", "--layers", "4", "--format", "ply", "-o", "fail"});
   CHECK(fail.code == 4);
   CHECK(!dir.exists("fail/layer_000.ply"));
   CHECK(!dir.exists("fail/layer_001.ply"));
   CHECK(!dir.exists("fail/layer_003.ply"));
   // Every layer misses: exit 5, nothing written.
-  const Result miss = cw4d::test::run_program(
-      dir, CW4D_EXE, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "2", "--to", "3",
-                      "--layers", "4", "-o", "none.glb"});
+  const Result miss =
+      cw4d::test::run_program(dir, CW4D_EXE,
+                              {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "2", "--to",
+                               "3", "--layers", "4", "-o", "none.glb"});
   CHECK(miss.code == 5);
   CHECK(!dir.exists("none.glb"));
 }

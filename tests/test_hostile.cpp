@@ -102,11 +102,28 @@ std::vector<std::string> listing(const TempDir& dir) {
 // The regular 5-cell as 4OFF, one element per line: line 1 header, 2 counts, 3-7 vertices,
 // 8-17 faces, 18-22 cells.
 std::vector<std::string> five_cell_lines() {
-  return {"4OFF",        "5 10 10 5",
-          "1 0 0 0",     "0 1 0 0",   "0 0 1 0",   "0 0 0 1",   "-0.6 -0.6 -0.6 -0.6",
-          "3 0 1 2",     "3 0 1 3",   "3 0 2 3",   "3 1 2 3",   "3 0 1 4",
-          "3 0 2 4",     "3 1 2 4",   "3 0 3 4",   "3 1 3 4",   "3 2 3 4",
-          "4 0 1 2 3",   "4 0 4 5 6", "4 1 4 7 8", "4 2 5 7 9", "4 3 6 8 9"};
+  return {"4OFF",
+          "5 10 10 5",
+          "1 0 0 0",
+          "0 1 0 0",
+          "0 0 1 0",
+          "0 0 0 1",
+          "-0.6 -0.6 -0.6 -0.6",
+          "3 0 1 2",
+          "3 0 1 3",
+          "3 0 2 3",
+          "3 1 2 3",
+          "3 0 1 4",
+          "3 0 2 4",
+          "3 1 2 4",
+          "3 0 3 4",
+          "3 1 3 4",
+          "3 2 3 4",
+          "4 0 1 2 3",
+          "4 0 4 5 6",
+          "4 1 4 7 8",
+          "4 2 5 7 9",
+          "4 3 6 8 9"};
 }
 
 std::string join(const std::vector<std::string>& lines) {
@@ -124,9 +141,9 @@ std::string five_cell_with(std::size_t line, const std::string& replacement) {
 struct HostileFile {
   std::string label;
   std::string content;
-  int exit;              // documented exit code of `cw4d slice`
-  std::size_t line;      // the line the message names
-  std::string needle;    // part of the message
+  int exit;            // documented exit code of `cw4d slice`
+  std::size_t line;    // the line the message names
+  std::string needle;  // part of the message
 };
 
 std::vector<HostileFile> hostile_files() {
@@ -157,8 +174,7 @@ std::vector<HostileFile> hostile_files() {
        "face 0 announces 4000000000 entries but the line has 3"},
       // bad headers and bytes
       {"unknown header", five_cell_with(1, "4OFFF"), bad_input, 1, "header '4OFFF'"},
-      {"binary garbage header", five_cell_with(1, "\x89PNG\r"), bad_input, 1,
-       "header '\\x89PNG'"},
+      {"binary garbage header", five_cell_with(1, "\x89PNG\r"), bad_input, 1, "header '\\x89PNG'"},
       {"non-UTF-8 bytes in a coordinate", five_cell_with(5, "0 0 \xff\xfe 0"), bad_input, 5,
        "'\\xff\\xfe' is not a number"},
       {"NUL byte in a coordinate", nul, bad_input, 4, "vertex 1 has 3 coordinates"},
@@ -294,8 +310,9 @@ TEST_CASE("hostile scenes: one message with file:line, exit 2 (3 for an invalid 
       {"not JSON at all", "objects:\n  - tesseract\n", "scene.json", 1, ""},
       {"non-UTF-8 bytes in a string", "{\"objects\": [\n{\"model\": \"tess\xff\xferact\"}]}",
        "scene.json", 2, "ill-formed UTF-8"},
-      {"unknown key (a typo)", "{\"objects\": [\n{\"model\": \"tesseract\",\n \"colour\": \"#fff\"}]}",
-       "scene.json", 3, "colour"},
+      {"unknown key (a typo)",
+       "{\"objects\": [\n{\"model\": \"tesseract\",\n \"colour\": \"#fff\"}]}", "scene.json", 3,
+       "colour"},
       {"no objects", "{\"objects\": []}", "scene.json", 1, "object"},
       {"opacity above 1", "{\"objects\": [\n{\"model\": \"tesseract\",\n\n \"opacity\": 2}]}",
        "scene.json", 4, "opacity"},
@@ -312,8 +329,8 @@ TEST_CASE("hostile scenes: one message with file:line, exit 2 (3 for an invalid 
        "tesseract:7"},
       {"a malformed model file", "{\"objects\": [{\"model\": \"bad.4off\"}]}", "bad.4off", 5,
        "is not finite"},
-      {"a model file with an open cell", "{\"objects\": [{\"model\": \"open.4off\"}]}",
-       "open.4off", 22, "is not a valid complex"},
+      {"a model file with an open cell", "{\"objects\": [{\"model\": \"open.4off\"}]}", "open.4off",
+       22, "is not a valid complex"},
   };
   for (const HostileScene& sc : scenes) {
     DYNAMIC_SECTION(sc.label) {
@@ -322,8 +339,8 @@ TEST_CASE("hostile scenes: one message with file:line, exit 2 (3 for an invalid 
       dir.write("bad.4off", five_cell_with(5, "0 0 inf 0"));
       dir.write("open.4off", five_cell_with(22, "3 3 6 8"));
       const auto before = listing(dir);
-      const Result r = run(dir, {"slice", "--scene", "scene.json", "--normal", "0,0,0,1", "--offset",
-                                 "0", "-o", "section.obj"});
+      const Result r = run(dir, {"slice", "--scene", "scene.json", "--normal", "0,0,0,1",
+                                 "--offset", "0", "-o", "section.obj"});
       CHECK(r.code == (sc.file == "open.4off" ? invalid_complex : bad_input));
       check_one_printable_error_line(r);
       CHECK(r.err.find("cw4d: error: " + sc.file + ":" + std::to_string(sc.line) + ": ") !=
@@ -357,20 +374,30 @@ TEST_CASE("contradictory command lines: exit 1 naming the options, nothing read 
     std::string needle;
   };
   const std::vector<BadLine> lines = {
-      {"a model and a scene", {"slice", "tesseract", "--scene", "s.json", "--normal", "0,0,0,1",
-                               "--offset", "0", "-o", "a.obj"}, "--scene"},
-      {"--rotate with --scene", {"slice", "--scene", "s.json", "--rotate", "xw:30", "--normal",
-                                 "0,0,0,1", "--offset", "0", "-o", "a.obj"}, "--rotate"},
-      {"--triangulate for SVG output", {"slice", "tesseract", "--normal", "0,0,0,1", "--offset",
-                                        "0", "--triangulate", "-o", "a.svg"}, "--triangulate"},
-      {"zero normal", {"slice", "tesseract", "--normal", "0,0,0,0", "--offset", "0", "-o",
-                       "a.obj"}, "--normal"},
-      {"normal of the wrong dimension", {"slice", "tesseract", "--normal", "0,0,1", "--offset",
-                                         "0", "-o", "a.obj"}, "normal"},
-      {"NaN offset", {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "nan", "-o",
-                      "a.obj"}, "offset"},
-      {"unknown output format", {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0",
-                                 "-o", "a.xyz"}, "a.xyz"},
+      {"a model and a scene",
+       {"slice", "tesseract", "--scene", "s.json", "--normal", "0,0,0,1", "--offset", "0", "-o",
+        "a.obj"},
+       "--scene"},
+      {"--rotate with --scene",
+       {"slice", "--scene", "s.json", "--rotate", "xw:30", "--normal", "0,0,0,1", "--offset", "0",
+        "-o", "a.obj"},
+       "--rotate"},
+      {"--triangulate for SVG output",
+       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--triangulate", "-o",
+        "a.svg"},
+       "--triangulate"},
+      {"zero normal",
+       {"slice", "tesseract", "--normal", "0,0,0,0", "--offset", "0", "-o", "a.obj"},
+       "--normal"},
+      {"normal of the wrong dimension",
+       {"slice", "tesseract", "--normal", "0,0,1", "--offset", "0", "-o", "a.obj"},
+       "normal"},
+      {"NaN offset",
+       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "nan", "-o", "a.obj"},
+       "offset"},
+      {"unknown output format",
+       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "-o", "a.xyz"},
+       "a.xyz"},
       {"convert to OBJ", {"convert", "tesseract", "-o", "a.obj"}, "a.obj"},
       {"no subcommand", {}, "subcommand"},
   };
@@ -394,8 +421,8 @@ namespace {
 // suite.
 Result run_guarded(const TempDir& dir, const std::vector<std::string>& args) {
   const std::string out = (dir / ".stdout").string(), err = (dir / ".stderr").string();
-  std::string cmd = "cd " + quote(dir.path().string()) + " && timeout --signal=KILL 60 " +
-                    quote(CW4D_EXE);
+  std::string cmd =
+      "cd " + quote(dir.path().string()) + " && timeout --signal=KILL 60 " + quote(CW4D_EXE);
   for (const auto& a : args) cmd += ' ' + quote(a);
   cmd += " >" + quote(out) + " 2>" + quote(err) + " </dev/null";
   const int status = std::system(cmd.c_str());
@@ -437,16 +464,15 @@ TEST_CASE("deeply nested specs and scenes: refused with a message, no stack over
   }
   SECTION("product: nested 5000 deep on the left") {
     // (5000 levels: the argument stays below Linux's 128 KiB per argument.)
-    const Result r = run_guarded(dir, {"info", repeat("product:", 5000) + "polygon:3" +
-                                                   repeat("*polygon:3", 5000)});
+    const Result r = run_guarded(
+        dir, {"info", repeat("product:", 5000) + "polygon:3" + repeat("*polygon:3", 5000)});
     CHECK(r.code == usage);
     CHECK(r.err.find("nests operators") != std::string::npos);
   }
   SECTION("a scene nested 10^5 deep") {
     dir.write("deep.json", "{\"objects\": " + repeat("[", 100000) + repeat("]", 100000) + "}");
-    const Result r =
-        run_guarded(dir, {"slice", "--scene", "deep.json", "--normal", "0,0,0,1", "--offset", "0",
-                          "-o", "a.obj"});
+    const Result r = run_guarded(dir, {"slice", "--scene", "deep.json", "--normal", "0,0,0,1",
+                                       "--offset", "0", "-o", "a.obj"});
     CHECK(r.code == bad_input);
     check_one_printable_error_line(r);
     CHECK(r.err.find("deep.json:1: ") != std::string::npos);
@@ -476,8 +502,8 @@ TEST_CASE("every input path refuses FIFOs and endless devices", "[hostile][cli][
   TempDir dir;
   REQUIRE(::mkfifo((dir / "p").c_str(), 0600) == 0);
   REQUIRE(::mkfifo((dir / "p.off").c_str(), 0600) == 0);
-  for (const std::string spec : {"hull:p", "extrude:p.off", "spin:p.off,8", "p.off", "hull:/dev/zero",
-                                 "extrude:/dev/zero", "/dev/zero"}) {
+  for (const std::string spec : {"hull:p", "extrude:p.off", "spin:p.off,8", "p.off",
+                                 "hull:/dev/zero", "extrude:/dev/zero", "/dev/zero"}) {
     DYNAMIC_SECTION(spec) {
       const Result r = run_guarded(dir, {"info", spec});
       CHECK(r.code == bad_input);
@@ -486,8 +512,8 @@ TEST_CASE("every input path refuses FIFOs and endless devices", "[hostile][cli][
     }
   }
   SECTION("--scene FIFO") {
-    const Result r = run_guarded(dir, {"slice", "--scene", "p", "--normal", "0,0,0,1", "--offset",
-                                       "0", "-o", "a.obj"});
+    const Result r = run_guarded(
+        dir, {"slice", "--scene", "p", "--normal", "0,0,0,1", "--offset", "0", "-o", "a.obj"});
     CHECK(r.code == bad_input);
     CHECK(r.err.find("not a regular file") != std::string::npos);
   }
@@ -496,8 +522,8 @@ TEST_CASE("every input path refuses FIFOs and endless devices", "[hostile][cli][
 TEST_CASE("outputs that are not regular files are written through, never replaced",
           "[hostile][cli][output]") {
   TempDir dir;
-  const std::vector<std::string> slice = {"slice", "tesseract", "--normal", "0,0,0,1",
-                                          "--offset", "0.5", "--format", "obj", "-o"};
+  const std::vector<std::string> slice = {"slice", "tesseract", "--normal", "0,0,0,1", "--offset",
+                                          "0.5",   "--format",  "obj",      "-o"};
   auto with = [&](const std::string& out) {
     auto a = slice;
     a.push_back(out);
@@ -563,9 +589,9 @@ TEST_CASE("inputs that announce more than they hold: exit 2 before allocating",
     }
   }
   SECTION("a render that would hold 2 * 64 images of 4096 x 4096 pixels") {
-    const Result r = run_guarded(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--mode",
-                                       "sheet", "--layers", "64", "--size", "4096x4096", "-o",
-                                       "a.png"});
+    const Result r =
+        run_guarded(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--mode", "sheet",
+                          "--layers", "64", "--size", "4096x4096", "-o", "a.png"});
     CHECK(r.code == usage);
     check_one_printable_error_line(r);
     CHECK(r.err.find("pixels in memory") != std::string::npos);
@@ -687,20 +713,44 @@ TEST_CASE("messages in the user's terms", "[hostile][cli][messages]") {
   dir.write("flat.txt", "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n1 1 0 0\n");
   dir.write("same.txt", "1 1 1 1\n1 1 1 1\n1 1 1 1\n1 1 1 1\n1 1 1 1\n");
   const std::vector<Case> cases = {
-      {"typo'd subcommand", {"slcie", "tesseract"}, usage, "unknown subcommand 'slcie'; did you mean 'slice'?"},
+      {"typo'd subcommand",
+       {"slcie", "tesseract"},
+       usage,
+       "unknown subcommand 'slcie'; did you mean 'slice'?"},
       {"unknown model, close to a name", {"info", "24cell"}, usage, "did you mean '24-cell'?"},
-      {"unknown model, spaces typed as dashes", {"info", "grand-antiprism"}, usage,
+      {"unknown model, spaces typed as dashes",
+       {"info", "grand-antiprism"},
+       usage,
        "did you mean 'grand antiprism'?"},
-      {"unknown operator head", {"info", "prsim:tesseract"}, usage, "did you mean 'prism:tesseract'?"},
-      {"a missing mesh file", {"info", "extrude:nothere.off"}, bad_input, "nothere.off:0: cannot open: file not found"},
-      {"points in a hyperplane", {"info", "hull:flat.txt"}, usage, "flat.txt: no convex hull: the points lie in a lower-dimensional flat"},
-      {"coincident points", {"info", "hull:same.txt"}, usage, "same.txt: no convex hull: all points coincide"},
-      {"a format the extension contradicts", {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--format", "stl", "-o", "a.obj"},
-       usage, "--format stl contradicts the extension of 'a.obj'"},
-      {"a plane that misses names the range", {"slice", "tesseract", "--normal", "0,0,0,2", "--offset", "3", "-o", "a.obj"},
-       5, "it meets d from -1 to 1 along the unit normal (0,0,0,1)"},
-      {"a scene scale of 1e155", {"slice", "--scene", "big.json", "--normal", "0,0,0,1", "--offset", "0", "-o", "a.obj"},
-       usage, "has coordinates up to 1e+155"},
+      {"unknown operator head",
+       {"info", "prsim:tesseract"},
+       usage,
+       "did you mean 'prism:tesseract'?"},
+      {"a missing mesh file",
+       {"info", "extrude:nothere.off"},
+       bad_input,
+       "nothere.off:0: cannot open: file not found"},
+      {"points in a hyperplane",
+       {"info", "hull:flat.txt"},
+       usage,
+       "flat.txt: no convex hull: the points lie in a lower-dimensional flat"},
+      {"coincident points",
+       {"info", "hull:same.txt"},
+       usage,
+       "same.txt: no convex hull: all points coincide"},
+      {"a format the extension contradicts",
+       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--format", "stl", "-o",
+        "a.obj"},
+       usage,
+       "--format stl contradicts the extension of 'a.obj'"},
+      {"a plane that misses names the range",
+       {"slice", "tesseract", "--normal", "0,0,0,2", "--offset", "3", "-o", "a.obj"},
+       5,
+       "it meets d from -1 to 1 along the unit normal (0,0,0,1)"},
+      {"a scene scale of 1e155",
+       {"slice", "--scene", "big.json", "--normal", "0,0,0,1", "--offset", "0", "-o", "a.obj"},
+       usage,
+       "has coordinates up to 1e+155"},
       {"a Miratope polygon", {"info", "poly.off"}, bad_input, "is Miratope's file of a polygon"},
   };
   dir.write("big.json", "{\"objects\": [{\"model\": \"tesseract\", \"scale\": 1e155}]}");
@@ -739,7 +789,8 @@ TEST_CASE("messages in the user's terms", "[hostile][cli][messages]") {
   }
 }
 
-TEST_CASE("decisions do not depend on units: huge, tiny and extreme values", "[hostile][cli][scale]") {
+TEST_CASE("decisions do not depend on units: huge, tiny and extreme values",
+          "[hostile][cli][scale]") {
   TempDir dir;
   std::string big, tiny;
   for (int m = 0; m < 16; ++m) {
@@ -823,8 +874,8 @@ TEST_CASE("files from the wild: a byte-order mark, zero-volume polyhedra decided
       std::string out = "OFF\n12 12 24\n";
       for (const auto& p : v) {
         char line[128];
-        std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", sx * scale * p.x(),
-                      scale * p.y(), scale * p.z());
+        std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", sx * scale * p.x(), scale * p.y(),
+                      scale * p.z());
         out += line;
       }
       for (const auto& f : faces) {
@@ -841,7 +892,8 @@ TEST_CASE("files from the wild: a byte-order mark, zero-volume polyhedra decided
           std::tuple{"mirrored, scaled x0.3", -1.0, 0.3}}) {
       INFO(label);
       dir.write("ohoh.off", off(sx, scale));
-      const cw4d::ValidationReport report = cw4d::validate(cw4d::read_off_file((dir / "ohoh.off").string()));
+      const cw4d::ValidationReport report =
+          cw4d::validate(cw4d::read_off_file((dir / "ohoh.off").string()));
       CHECK_FALSE(report.ok());
       verdicts.push_back(report.summary());
     }
@@ -857,8 +909,8 @@ TEST_CASE("an interrupted sweep leaves nothing behind", "[hostile][cli][signals]
     DYNAMIC_SECTION("SIG" << sig) {
       TempDir dir;
       // 5000 layers of the 120-cell take far more than a second: the signal lands mid-sweep.
-      const std::string cmd = "cd " + quote(dir.path().string()) + " && timeout -s " + sig +
-                              " 1 " + quote(CW4D_EXE) +
+      const std::string cmd = "cd " + quote(dir.path().string()) + " && timeout -s " + sig + " 1 " +
+                              quote(CW4D_EXE) +
                               " sweep 120-cell --normal 1,2,3,4 --from -3 --to 3 --layers 5000"
                               " -q -o out/layers >/dev/null 2>&1";
       const int status = std::system(cmd.c_str());

@@ -419,9 +419,9 @@ TEST_CASE("hull:FILE reads points and reports bad lines with their numbers", "[h
 
 TEST_CASE("the hull models are registered under their names and aliases", "[hull][models]") {
   register_hull_models();
-  for (const char* spec : {"snub cube", "snic", "snub dodecahedron", "snid", "snub 24-cell",
-                           "Snub-24-Cell", "sadi", "grand antiprism", "GAP", "glome:1,2",
-                           "hull:x.txt"})
+  for (const char* spec :
+       {"snub cube", "snic", "snub dodecahedron", "snid", "snub 24-cell", "Snub-24-Cell", "sadi",
+        "grand antiprism", "GAP", "glome:1,2", "hull:x.txt"})
     CHECK(is_builtin_spec(spec));
   CHECK(load_model("sadi").fvector() == FVector{96, 432, 480, 144});
   CHECK(load_model("gap").fvector() == FVector{100, 500, 720, 320});

@@ -2,8 +2,8 @@
 // cells whose cut has holes (and their triangulation), star polychora with self-intersecting
 // cells (sectioned as flagged polygon soups whose chain volume matches the B-spline oracle),
 // the non-convex round built-ins, and the deterministic evaluation of the side-of-plane value.
-#include <catch2/catch.hpp>
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -83,7 +83,8 @@ double triangle_area_along(const Complex& c, const Triangle& t, const Eigen::Vec
 
 // --- non-convex faces and cells ---------------------------------------------------------------
 
-TEST_CASE("non-convex: a face cut in four points pairs them along the line", "[robust][nonconvex]") {
+TEST_CASE("non-convex: a face cut in four points pairs them along the line",
+          "[robust][nonconvex]") {
   const Complex u = u_prism();
   REQUIRE(validate(u).ok());
   // y = 1.5 crosses both arms of the U: the top and bottom octagons are cut in four points each,
@@ -116,7 +117,8 @@ TEST_CASE("non-convex: a face cut in four points pairs them along the line", "[r
   }
 }
 
-TEST_CASE("non-convex: a cell cut into an annulus triangulates around its hole", "[robust][holes]") {
+TEST_CASE("non-convex: a cell cut into an annulus triangulates around its hole",
+          "[robust][holes]") {
   // prism over a torus: the plane z = 0 cuts the two torus cells (w = +-1) into annuli.
   const Complex p = make_prism(make_torus(2.0, 0.7, 12), 2.0);
   REQUIRE(validate(p).ok());
@@ -171,9 +173,10 @@ TEST_CASE("triangulation: ear clipping keeps orientation and area of non-convex 
 
 // --- star polychora -------------------------------------------------------------------------
 
-TEST_CASE("star polychora: every regular and non-convex uniform Miratope file sections as a "
-          "flagged polygon soup with the oracle's volume",
-          "[robust][star]") {
+TEST_CASE(
+    "star polychora: every regular and non-convex uniform Miratope file sections as a "
+    "flagged polygon soup with the oracle's volume",
+    "[robust][star]") {
   const std::string root = std::string(CW4D_TEST_DATA_DIR) + "/miratope/";
   std::vector<std::string> files;
   for (const char* dir : {"regular", "nonconvex uniform"})
@@ -221,7 +224,8 @@ TEST_CASE("toratopes: closed valid non-convex complexes whose volumes converge f
     double exact;
   };
   const std::vector<Case> cases = {
-      {"spheritorus:2,0.7,16", "spheritorus:2,0.7,32", 8.0 / 3.0 * pi * pi * 2.0 * std::pow(0.7, 3)},
+      {"spheritorus:2,0.7,16", "spheritorus:2,0.7,32",
+       8.0 / 3.0 * pi * pi * 2.0 * std::pow(0.7, 3)},
       {"torisphere:2,0.7,16", "torisphere:2,0.7,32",
        4.0 * pi * pi * 4.0 * 0.49 + pi * pi * std::pow(0.7, 4)},
       {"ditorus:3,1.2,0.5,16", "ditorus:3,1.2,0.5,32", 4.0 * std::pow(pi, 3) * 3.0 * 1.2 * 0.25},
@@ -269,7 +273,8 @@ TEST_CASE("exact decisions: plane_value has the sign of the exact n.x - d", "[ro
     for (int i = 0; i < 4; ++i) x(i) = std::uniform_real_distribution<double>(-3, 3)(rng);
     const double d = n.dot(x);  // x is on the plane up to the rounding of this dot product
     __float128 exact = -static_cast<__float128>(d);
-    for (int i = 0; i < 4; ++i) exact += static_cast<__float128>(n(i)) * static_cast<__float128>(x(i));
+    for (int i = 0; i < 4; ++i)
+      exact += static_cast<__float128>(n(i)) * static_cast<__float128>(x(i));
     const int want = exact > 0 ? 1 : (exact < 0 ? -1 : 0);
     const double v = plane_value(n, d, x.data());
     const int got = v > 0 ? 1 : (v < 0 ? -1 : 0);

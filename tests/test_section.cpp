@@ -19,8 +19,8 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
-#include "support/planes.hpp"
 #include "support/oracle.hpp"
+#include "support/planes.hpp"
 #include "support/registration.hpp"
 
 using namespace cw4d;
@@ -71,7 +71,9 @@ std::pair<double, double> extent(const Complex& c, const Eigen::VectorXd& u) {
   return {h.minCoeff(), h.maxCoeff()};
 }
 
-double diameter(const Complex& c) { return 2.0 * max_radius(c) + 1e-300; }
+double diameter(const Complex& c) {
+  return 2.0 * max_radius(c) + 1e-300;
+}
 
 // Every property a section must have, checked against the model and the oracle.
 void check_section(const Complex& model, const Hyperplane& plane, const Section& s,
@@ -93,7 +95,8 @@ void check_section(const Complex& model, const Hyperplane& plane, const Section&
   if (n == 4) {
     // A closed 2-manifold of genus 0: V - E + F = 2.
     CHECK(static_cast<long>(c.count(0)) - static_cast<long>(c.count(1)) +
-              static_cast<long>(c.count(2)) == 2);
+              static_cast<long>(c.count(2)) ==
+          2);
   }
   // Every vertex lies on the plane and on its source edge (or is its source vertex).
   const auto& mp = model.positions();
@@ -255,9 +258,15 @@ void degenerate_family(int rank, int trials_per_shape, std::uint32_t seed) {
 
 }  // namespace
 
-TEST_CASE("degenerate: planes through a vertex") { degenerate_family(0, 150, 101); }
-TEST_CASE("degenerate: planes containing an edge") { degenerate_family(1, 150, 102); }
-TEST_CASE("degenerate: planes containing a face") { degenerate_family(2, 150, 103); }
+TEST_CASE("degenerate: planes through a vertex") {
+  degenerate_family(0, 150, 101);
+}
+TEST_CASE("degenerate: planes containing an edge") {
+  degenerate_family(1, 150, 102);
+}
+TEST_CASE("degenerate: planes containing a face") {
+  degenerate_family(2, 150, 103);
+}
 
 TEST_CASE("degenerate: planes containing a cell give that cell as a solid") {
   for (const Shape& shape : shapes_4d()) {
@@ -298,7 +307,8 @@ TEST_CASE("degenerate: grid-snapped planes on the tesseract, 16-cell and 24-cell
               const Hyperplane plane{nrm / len, 0.5 * k / len};
               const auto [lo, hi] = extent(shape.complex, plane.normal);
               const double mid = 0.5 * (lo + hi);
-              double expected = test::bspline_section_volume(shape.complex, plane.normal, plane.offset);
+              double expected =
+                  test::bspline_section_volume(shape.complex, plane.normal, plane.offset);
               // A plane holding a whole facet sits on a jump of the oracle: take the inner limit.
               const double h = 1e-9 * (hi - lo);
               if (std::abs(plane.offset - hi) < h || std::abs(plane.offset - lo) < h) {
@@ -324,9 +334,11 @@ TEST_CASE("degenerate: grid-snapped planes on the tesseract, 16-cell and 24-cell
 TEST_CASE("section: planes that miss or only touch the model give an empty section") {
   const Complex t = load_model("tesseract");
   CHECK(section(t, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.5)).empty());
-  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 2.0)).empty());   // a vertex
-  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 0), std::sqrt(3.0))).empty());  // an edge
-  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 0, 0), std::sqrt(2.0))).empty());  // a face
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 2.0)).empty());  // a vertex
+  CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 0), std::sqrt(3.0)))
+            .empty());  // an edge
+  CHECK(
+      section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 0, 0), std::sqrt(2.0))).empty());  // a face
   const Complex c16 = load_model("16-cell");
   CHECK(section(c16, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.0)).empty());  // a vertex
 }
@@ -369,16 +381,19 @@ TEST_CASE("section: cutting a transformed model equals cutting with the transfor
       }
       if (trial % 3 == 1) xf = AffineTransform::scale(Eigen::Vector4d(1.5, 0.7, 1.0, 1.2)) * xf;
       if (trial % 3 == 2) xf = AffineTransform::scale(Eigen::Vector4d(-1, 1, 1, 1)) * xf;  // mirror
-      xf = AffineTransform::translation(Eigen::Vector4d(shift(rng), shift(rng), shift(rng), shift(rng))) * xf;
+      xf = AffineTransform::translation(
+               Eigen::Vector4d(shift(rng), shift(rng), shift(rng), shift(rng))) *
+           xf;
       const Complex moved = transformed(shape.complex, xf);
       const Eigen::VectorXd u = random_unit(rng, 4);
       const auto [lo, hi] = extent(moved, u);
-      const Hyperplane plane = Hyperplane::from(u, std::uniform_real_distribution<double>(lo, hi)(rng));
+      const Hyperplane plane =
+          Hyperplane::from(u, std::uniform_real_distribution<double>(lo, hi)(rng));
       const Section a = section(shape.complex, plane, xf);
       const Section b = section(moved, plane);
       INFO(shape.name << " trial " << trial);
-      check_section(moved, plane, b, test::bspline_section_volume(moved, plane.normal, plane.offset),
-                    "moved model");
+      check_section(moved, plane, b,
+                    test::bspline_section_volume(moved, plane.normal, plane.offset), "moved model");
       REQUIRE(a.complex.fvector() == b.complex.fvector());
       REQUIRE(validate(a.complex).ok());
       CHECK(signed_volume(a.complex) == Approx(signed_volume(b.complex)).epsilon(1e-9));
@@ -401,7 +416,8 @@ TEST_CASE("section: a section of a section is a closed polygon with the oracle's
       REQUIRE(!s3.empty());
       const Eigen::VectorXd u3 = random_unit(rng, 3);
       const auto [lo3, hi3] = extent(s3.complex, u3);
-      const Hyperplane p3 = Hyperplane::from(u3, std::uniform_real_distribution<double>(lo3, hi3)(rng));
+      const Hyperplane p3 =
+          Hyperplane::from(u3, std::uniform_real_distribution<double>(lo3, hi3)(rng));
       const Section s2 = section(s3.complex, p3);
       INFO(shape.name << " trial " << trial);
       REQUIRE(validate(s2.complex).ok());
@@ -448,7 +464,8 @@ TEST_CASE("regression: cutting a 2D complex (a section of a section of a section
   REQUIRE(points.complex.count(0) == 2);
   CHECK(points.complex.ambient_dim() == 1);
   // 4D -> 3D -> 2D -> 1D: the last cut of a closed polygon is two points.
-  const Section s3 = section(load_model("tesseract"), Hyperplane::from(Eigen::Vector4d(0.1, 0.2, 0.3, 1), 0.1));
+  const Section s3 =
+      section(load_model("tesseract"), Hyperplane::from(Eigen::Vector4d(0.1, 0.2, 0.3, 1), 0.1));
   const Section s2 = section(s3.complex, Hyperplane::from(Eigen::Vector3d(0.2, 0.1, 1), 0.05));
   const Section s1 = section(s2.complex, Hyperplane::from(Eigen::Vector2d(0.3, 1), 0.02));
   REQUIRE(validate(s2.complex).ok());

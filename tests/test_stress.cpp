@@ -9,8 +9,8 @@
 // CW4D_STRESS_FRACTION (a number in (0, 1], default 1) scales the plane counts down, for the
 // sanitizer build where every section costs ten times more; the >= 10^4 requirement is checked
 // only at the full count.
-#include <catch2/catch.hpp>
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +43,7 @@ namespace {
 struct Model {
   std::string name;
   Complex complex;
-  double scale;       // diameter
+  double scale;  // diameter
   std::size_t elements;
   bool convex;
 };
@@ -53,15 +53,42 @@ const std::vector<Model>& models() {
   static const std::vector<Model> all = [] {
     test::register_optional_models();
     const std::string data = CW4D_TEST_DATA_DIR;
-    std::vector<std::string> specs = {
-        "5-cell", "tesseract", "16-cell", "24-cell", "120-cell", "600-cell", "rectified 5-cell",
-        "truncated tesseract", "cantellated 5-cell", "bitruncated 5-cell", "simplex:4", "cube:4",
-        "orthoplex:4", "duoprism:5,7", "duoprism:3,12", "prism:5-cell", "prism:antiprism:5",
-        "product:polygon:5*polygon:8", "pyramid:cube:3", "cone:sphere:1,8", "dual:24-cell",
-        "duocylinder:1,12", "cubinder:1,8", "spherinder:1,8", "wythoff:x3x3x3x", "wythoff:x4o3x3o",
-        "snub 24-cell", "grand antiprism", "glome:1,3", "extrude:" + data + "/cube.obj",
-        "spin:" + data + "/offset_cube.off,12", "hull:" + data + "/cube_points.txt",
-        "spheritorus:2,0.7,8", "torisphere:2,0.7,8", "ditorus:3,1.2,0.5,8", "tiger:2,2,0.7,8"};
+    std::vector<std::string> specs = {"5-cell",
+                                      "tesseract",
+                                      "16-cell",
+                                      "24-cell",
+                                      "120-cell",
+                                      "600-cell",
+                                      "rectified 5-cell",
+                                      "truncated tesseract",
+                                      "cantellated 5-cell",
+                                      "bitruncated 5-cell",
+                                      "simplex:4",
+                                      "cube:4",
+                                      "orthoplex:4",
+                                      "duoprism:5,7",
+                                      "duoprism:3,12",
+                                      "prism:5-cell",
+                                      "prism:antiprism:5",
+                                      "product:polygon:5*polygon:8",
+                                      "pyramid:cube:3",
+                                      "cone:sphere:1,8",
+                                      "dual:24-cell",
+                                      "duocylinder:1,12",
+                                      "cubinder:1,8",
+                                      "spherinder:1,8",
+                                      "wythoff:x3x3x3x",
+                                      "wythoff:x4o3x3o",
+                                      "snub 24-cell",
+                                      "grand antiprism",
+                                      "glome:1,3",
+                                      "extrude:" + data + "/cube.obj",
+                                      "spin:" + data + "/offset_cube.off,12",
+                                      "hull:" + data + "/cube_points.txt",
+                                      "spheritorus:2,0.7,8",
+                                      "torisphere:2,0.7,8",
+                                      "ditorus:3,1.2,0.5,8",
+                                      "tiger:2,2,0.7,8"};
     std::vector<Model> m;
     auto add = [&](const std::string& name, Complex c) {
       if (c.ambient_dim() != 4) return;
@@ -80,8 +107,7 @@ const std::vector<Model>& models() {
     for (const auto& e : std::filesystem::directory_iterator(dir + "convex uniform"))
       if (e.path().extension() == ".off") files.push_back(e.path().string());
     std::sort(files.begin(), files.end());
-    for (const auto& f : files)
-      add(std::filesystem::path(f).filename().string(), read_off_file(f));
+    for (const auto& f : files) add(std::filesystem::path(f).filename().string(), read_off_file(f));
     return m;
   }();
   return all;
@@ -127,8 +153,8 @@ void check(const Model& m, const Hyperplane& plane, const std::string& what, Cou
   if (s.empty()) {
     ++counts.empty;
     if (std::min(std::abs(vm), std::abs(vp)) > jump_tol) {
-      FAIL_CHECK(m.name << ": empty section where a nearby plane is not, " << what
-                        << " volumes " << vm << ", " << vp);
+      FAIL_CHECK(m.name << ": empty section where a nearby plane is not, " << what << " volumes "
+                        << vm << ", " << vp);
     }
     return;
   }
@@ -159,7 +185,8 @@ void check(const Model& m, const Hyperplane& plane, const std::string& what, Cou
       if (sum[e] != 0) FAIL_CHECK(m.name << ": " << what << ": edge " << e << " is a boundary");
   }
   const double volume = signed_volume(sc);
-  if (!(volume > 0.0)) FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " not outward");
+  if (!(volume > 0.0))
+    FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " not outward");
   // Continuity with the nearby generic planes on at least one side: a plane holding a whole
   // facet is the limit from inside (the outside neighbour is empty).
   // Near-parallel planes make V steep (dV/dd ~ 10^3): then V lies between its neighbours.
@@ -167,8 +194,8 @@ void check(const Model& m, const Hyperplane& plane, const std::string& what, Cou
   const double slack = jump_tol + 1e-6 * volume;
   const bool between = std::min(vm, vp) - slack <= volume && volume <= std::max(vm, vp) + slack;
   if (jump > slack && !between)
-    FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " jumps to " << vm << " / "
-                      << vp << " at distance " << delta);
+    FAIL_CHECK(m.name << ": " << what << ": volume " << volume << " jumps to " << vm << " / " << vp
+                      << " at distance " << delta);
   // No duplicate vertices: sweep along x.
   const Eigen::MatrixXd& p = sc.positions();
   std::vector<Eigen::Index> order(static_cast<std::size_t>(p.cols()));
@@ -250,11 +277,21 @@ TEST_CASE("stress: the models load and are valid closed complexes", "[stress]") 
   }
 }
 
-TEST_CASE("stress: planes through a vertex", "[stress]") { run_family(Family::vertex, 701, "vertex"); }
-TEST_CASE("stress: planes containing an edge", "[stress]") { run_family(Family::edge, 702, "edge"); }
-TEST_CASE("stress: planes containing a face", "[stress]") { run_family(Family::face, 703, "face"); }
-TEST_CASE("stress: planes containing a cell", "[stress]") { run_family(Family::cell, 704, "cell"); }
-TEST_CASE("stress: grid-snapped planes", "[stress]") { run_family(Family::grid, 705, "grid"); }
+TEST_CASE("stress: planes through a vertex", "[stress]") {
+  run_family(Family::vertex, 701, "vertex");
+}
+TEST_CASE("stress: planes containing an edge", "[stress]") {
+  run_family(Family::edge, 702, "edge");
+}
+TEST_CASE("stress: planes containing a face", "[stress]") {
+  run_family(Family::face, 703, "face");
+}
+TEST_CASE("stress: planes containing a cell", "[stress]") {
+  run_family(Family::cell, 704, "cell");
+}
+TEST_CASE("stress: grid-snapped planes", "[stress]") {
+  run_family(Family::grid, 705, "grid");
+}
 
 namespace {
 
@@ -298,8 +335,8 @@ std::string differs(const Section& fast, const Section& general, double scale,
     if (fast.vertex_source[i].element != general.vertex_source[i].element ||
         fast.vertex_source[i].rank != general.vertex_source[i].rank)
       return "vertex source " + std::to_string(i);
-  if (a.count(0) > 0 && !((a.positions() - b.positions()).cwiseAbs().maxCoeff() <= position_tol * scale))
-  {
+  if (a.count(0) > 0 &&
+      !((a.positions() - b.positions()).cwiseAbs().maxCoeff() <= position_tol * scale)) {
     std::ostringstream o;
     o << "positions, by " << (a.positions() - b.positions()).cwiseAbs().maxCoeff() / scale;
     return o.str();
@@ -348,7 +385,8 @@ TEST_CASE("stress: the fast kernel agrees with the generic gathering and the gen
           n = random_orthogonal(rng, dirs);
         }
         const double d = n.dot(c.position(c.first_vertex(rank, id)));
-        for (double shift : {-1e-7, 0.0, 1e-7}) planes.push_back(Hyperplane{n, d + shift * m.scale});
+        for (double shift : {-1e-7, 0.0, 1e-7})
+          planes.push_back(Hyperplane{n, d + shift * m.scale});
       }
     }
     for (std::size_t i = 0; i < planes.size(); ++i) {
@@ -356,7 +394,8 @@ TEST_CASE("stress: the fast kernel agrees with the generic gathering and the gen
       kernel.slice(compiled, plane, a);
       generic.slice(compiled, plane, b, plain);
       ++slices;
-      if (!identical(a, b)) FAIL_CHECK(m.name << ": kernel and generic gathering differ, " << describe(plane));
+      if (!identical(a, b))
+        FAIL_CHECK(m.name << ": kernel and generic gathering differ, " << describe(plane));
       if (a.general) continue;
       ++fast;
       // The two paths evaluate n.x - d differently; a crossing's t = s_a / (s_a - s_b) is
@@ -366,7 +405,8 @@ TEST_CASE("stress: the fast kernel agrees with the generic gathering and the gen
       const std::string why =
           differs(to_section(a), section_general(c, plane, AffineTransform::identity(4)), m.scale,
                   near_degenerate ? 1e-10 : 1e-12);
-      if (!why.empty()) FAIL_CHECK(m.name << ": fast and general path differ (" << why << "), " << describe(plane));
+      if (!why.empty())
+        FAIL_CHECK(m.name << ": fast and general path differ (" << why << "), " << describe(plane));
       // section() skips the self-intersection test for convex models: the same answer.
       if (section(c, plane).self_intersecting != to_section(a).self_intersecting)
         FAIL_CHECK(m.name << ": section() and self_intersects disagree, " << describe(plane));

@@ -845,8 +845,8 @@ TEST_CASE("tet CLI: tetrahedralize and slice --method tet", "[tet][cli]") {
 // the cells behind the front cell tile the front cell's image, so their 3D volumes add up to it,
 // every image keeps its orientation, and exactly one cell faces the eye.
 TEST_CASE("Schlegel view: the cells behind the front cell tile its image", "[tet][export]") {
-  for (const char* spec : {"tesseract", "5-cell", "24-cell", "120-cell", "600-cell",
-                           "duoprism:5,7", "prism:wythoff:x5o3o"}) {
+  for (const char* spec : {"tesseract", "5-cell", "24-cell", "120-cell", "600-cell", "duoprism:5,7",
+                           "prism:wythoff:x5o3o"}) {
     INFO(spec);
     const TetMesh mesh = tetrahedralize(load_model(spec));
     const SchlegelView view = schlegel_view(mesh);

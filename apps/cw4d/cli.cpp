@@ -164,8 +164,8 @@ void prepare_output_directory(const std::string& path) {
   if (fs::is_directory(parent, ec)) return;
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent))
-    throw IoError("cannot write '" + path + "': cannot create directory '" + parent.string() +
-                  "'" + (ec ? ": " + ec.message() : ""));
+    throw IoError("cannot write '" + path + "': cannot create directory '" + parent.string() + "'" +
+                  (ec ? ": " + ec.message() : ""));
 }
 
 // --- placement -------------------------------------------------------------------------------
@@ -189,7 +189,8 @@ Rotation parse_rotation(const std::string& text) {
 }  // namespace
 
 void Placement::add_options(CLI::App& cmd) {
-  cmd.add_option("MODEL", model, "Built-in spec (see 'cw4d list') or a .4off/.off file; or give --scene");
+  cmd.add_option("MODEL", model,
+                 "Built-in spec (see 'cw4d list') or a .4off/.off file; or give --scene");
   cmd.add_option("--scene", scene,
                  "JSON scene file: several placed, colored models, cut together (instead of "
                  "MODEL; not with --rotate/--translate)")
@@ -234,11 +235,11 @@ std::string Placement::input_label() const {
 void Placement::check_dimension(int dim) const {
   const std::string where = input_label() + " lives in R^" + std::to_string(dim);
   if (normal.size() != static_cast<std::size_t>(dim))
-    throw InputError("--normal has " + std::to_string(normal.size()) + " components but " +
-                     where + ": give " + std::to_string(dim) + " comma-separated numbers");
+    throw InputError("--normal has " + std::to_string(normal.size()) + " components but " + where +
+                     ": give " + std::to_string(dim) + " comma-separated numbers");
   if (!translate.empty() && translate.size() != static_cast<std::size_t>(dim))
-    throw InputError("--translate has " + std::to_string(translate.size()) +
-                     " components but " + where);
+    throw InputError("--translate has " + std::to_string(translate.size()) + " components but " +
+                     where);
   for (const auto& r : rotations)
     if (r.axis_i >= dim || r.axis_j >= dim)
       throw InputError("--rotate " + r.text + ": " + where + ", which has no such axis");
@@ -250,8 +251,7 @@ AffineTransform Placement::model_to_world(int dim) const {
     m = AffineTransform::rotation(dim, r.axis_i, r.axis_j, r.degrees * std::numbers::pi / 180.0) *
         m;
   if (!translate.empty())
-    m = AffineTransform::translation(Eigen::Map<const Eigen::VectorXd>(translate.data(), dim)) *
-        m;
+    m = AffineTransform::translation(Eigen::Map<const Eigen::VectorXd>(translate.data(), dim)) * m;
   return m;
 }
 
@@ -319,10 +319,9 @@ Input load_input(const Placement& placement) {
         (obj.transform.linear() * pos).colwise() + obj.transform.translation();
     const double big = world.cwiseAbs().maxCoeff();
     const double extent = (world.rowwise().maxCoeff() - world.rowwise().minCoeff()).maxCoeff();
-    const std::string what =
-        in.is_scene ? "object " + std::to_string(i) + " (" + obj.model + ") of scene '" +
-                          placement.scene + "'"
-                    : "model '" + obj.model + "'";
+    const std::string what = in.is_scene ? "object " + std::to_string(i) + " (" + obj.model +
+                                               ") of scene '" + placement.scene + "'"
+                                         : "model '" + obj.model + "'";
     if (!(big <= 1e100))
       throw InputError(what + " has coordinates up to " + brief(big) +
                        " once placed: cw4d cuts models within 1e100 of the origin (scale it down)");
@@ -362,8 +361,8 @@ std::string offset_range(const Input& input, const Hyperplane& plane) {
     hi = std::max(hi, b);
   }
   std::vector<double> n(plane.normal.data(), plane.normal.data() + plane.normal.size());
-  return "d from " + brief(lo) + " to " + brief(hi) + " along the unit normal (" +
-         join(n, brief) + ")";
+  return "d from " + brief(lo) + " to " + brief(hi) + " along the unit normal (" + join(n, brief) +
+         ")";
 }
 
 Cut cut(const Input& input, const Hyperplane& plane) {

@@ -96,11 +96,14 @@ void check_pixel_budget(const RenderSettings& s) {
   const double images = s.mode == "sheet" ? 2.0 * layers : s.mode == "stereo" ? 4.0 : 1.0;
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
-    throw InputError("--size " + s.size + (s.mode == "sheet" ? " with " + std::to_string(layers) + " layers" : std::string()) +
-                     " would hold " + std::to_string(static_cast<long long>(std::min(held, 9e18))) +
-                     " pixels in memory (" + std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
-                     " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
-                     ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
+    throw InputError(
+        "--size " + s.size +
+        (s.mode == "sheet" ? " with " + std::to_string(layers) + " layers" : std::string()) +
+        " would hold " + std::to_string(static_cast<long long>(std::min(held, 9e18))) +
+        " pixels in memory (" +
+        std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
+        " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
+        ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
 }
 
 void run_render(RenderSettings& s) {
@@ -115,8 +118,9 @@ void run_render(RenderSettings& s) {
   if (lower_extension(s.output) != ".png")
     throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
   const Input input = load_input(p);
-  if (input.dim() != 4) throw InputError("render draws 4D models; " + p.input_label() + " lives in R^" +
-                                         std::to_string(input.dim()));
+  if (input.dim() != 4)
+    throw InputError("render draws 4D models; " + p.input_label() + " lives in R^" +
+                     std::to_string(input.dim()));
   prepare_output_directory(s.output);
   const glm::vec3 background(1.0f);
   std::string what;
@@ -128,10 +132,11 @@ void run_render(RenderSettings& s) {
                          offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
                          s.output + "'");
     const auto o = section_options(s);
-    const render::Image img = s.mode == "section"
-                                  ? render::render_section(c.section, o, single_model(input))
-                                  : render::render_stereo_pair(c.section, o, static_cast<float>(s.separation),
-                                                               single_model(input));
+    const render::Image img =
+        s.mode == "section"
+            ? render::render_section(c.section, o, single_model(input))
+            : render::render_stereo_pair(c.section, o, static_cast<float>(s.separation),
+                                         single_model(input));
     render::write_png(s.output, img, background);
     what = s.mode == "section" ? "section" : "stereo pair (left eye left)";
   } else if (s.mode == "sheet" || s.mode == "frames") {
@@ -152,12 +157,12 @@ void run_render(RenderSettings& s) {
     }
     if (s.mode == "sheet") {
       render::write_png(s.output, render::contact_sheet(cells, s.columns), background);
-      what = "contact sheet of " + std::to_string(layers) + " layers, offsets " + brief(offsets.front()) +
-             " .. " + brief(offsets.back());
+      what = "contact sheet of " + std::to_string(layers) + " layers, offsets " +
+             brief(offsets.front()) + " .. " + brief(offsets.back());
     } else {
       std::cout << "wrote " << layers << " frames " << frame_path(s.output, 0) << " .. "
-                << frame_path(s.output, layers - 1) << " (offsets " << brief(offsets.front()) << " .. "
-                << brief(offsets.back()) << ")\n";
+                << frame_path(s.output, layers - 1) << " (offsets " << brief(offsets.front())
+                << " .. " << brief(offsets.back()) << ")\n";
       return;
     }
   } else if (s.mode == "cloud") {
@@ -195,7 +200,8 @@ void run_render(RenderSettings& s) {
     o.facet_at_south_pole = p.rotate_text.empty();  // --rotate chooses the pole instead
     if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
     const SceneObject& obj = input.scene.objects.front();
-    render::write_png(s.output, render::render_stereographic(transformed(*obj.complex, obj.transform), o),
+    render::write_png(s.output,
+                      render::render_stereographic(transformed(*obj.complex, obj.transform), o),
                       background);
     what = std::string("stereographic projection (") + (o.tubes ? "tubes" : "lines") + ")";
   }
@@ -206,21 +212,25 @@ void run_render(RenderSettings& s) {
 
 void add_render_command(CLI::App& app, Commands& commands) {
   auto s = std::make_shared<RenderSettings>();
-  auto* cmd = app.add_subcommand("render", "Draw a PNG picture: a shaded section, a voxel cloud, a "
-                                           "4D wireframe, a stereographic view, a stereo pair or a sweep.");
+  auto* cmd = app.add_subcommand("render",
+                                 "Draw a PNG picture: a shaded section, a voxel cloud, a "
+                                 "4D wireframe, a stereographic view, a stereo pair or a sweep.");
   s->placement.add_options(*cmd);
   cmd->get_option("--normal")->required(false);
   cmd->add_option("--mode", s->mode,
                   "section (default), stereo, sheet, frames, cloud, wireframe, stereographic")
-      ->check(CLI::IsMember({"section", "stereo", "sheet", "frames", "cloud", "wireframe", "stereographic"}));
+      ->check(CLI::IsMember(
+          {"section", "stereo", "sheet", "frames", "cloud", "wireframe", "stereographic"}));
   cmd->add_option("--offset", s->offset, "section/stereo: signed distance d of the plane n.x = d")
       ->type_name("D");
   cmd->add_option("-o,--output", s->output, "Output PNG (frames: NAME.png -> NAME_0000.png, ...)")
       ->required();
   cmd->add_option("--size", s->size, "Image size in pixels (default 800x600)")->type_name("WxH");
-  cmd->add_option("--samples", s->samples, "Anti-aliasing: S x S samples per pixel, S = 1..4 (default 3)")
+  cmd->add_option("--samples", s->samples,
+                  "Anti-aliasing: S x S samples per pixel, S = 1..4 (default 3)")
       ->check(CLI::Range(1, 4));
-  cmd->add_option("--threads", s->threads, "Worker threads (default: all cores; the picture is the same)")
+  cmd->add_option("--threads", s->threads,
+                  "Worker threads (default: all cores; the picture is the same)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--projection", s->projection, "perspective (default) or orthographic")
       ->check(CLI::IsMember({"perspective", "orthographic"}));
@@ -228,12 +238,15 @@ void add_render_command(CLI::App& app, Commands& commands) {
                   "Direction the 3D camera looks from (section coordinates; cloud: (u,v,s) of the "
                   "volume; wireframe: the retina cube)")
       ->type_name("X,Y,Z");
-  cmd->add_flag("--edges", s->edges, "section/stereo/sheet/frames: draw the section's edges on top");
+  cmd->add_flag("--edges", s->edges,
+                "section/stereo/sheet/frames: draw the section's edges on top");
   cmd->add_flag("--cull", s->cull, "Cull back faces (sections are closed surfaces)");
-  cmd->add_option("--layers", s->layers, "cloud (64), sheet (16), frames (24): number of parallel sections")
+  cmd->add_option("--layers", s->layers,
+                  "cloud (64), sheet (16), frames (24): number of parallel sections")
       ->check(CLI::Range(1, 4096));
-  cmd->add_option("--opacity", s->opacity,
-                  "cloud: opacity of the whole depth seen face-on, times each object's opacity (0.97)")
+  cmd->add_option(
+         "--opacity", s->opacity,
+         "cloud: opacity of the whole depth seen face-on, times each object's opacity (0.97)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--columns", s->columns, "sheet: images per row (default: about square)")
       ->check(CLI::NonNegativeNumber);

@@ -149,8 +149,8 @@ void run_sweep(SweepSettings& s) {
   std::vector<double> offsets;
   // Brought near unit length by a power of two (exact, and what Hyperplane::from does), so that
   // its length cannot overflow or underflow.
-  Eigen::VectorXd raw_normal =
-      Eigen::Map<const Eigen::VectorXd>(p.normal.data(), static_cast<Eigen::Index>(p.normal.size()));
+  Eigen::VectorXd raw_normal = Eigen::Map<const Eigen::VectorXd>(
+      p.normal.data(), static_cast<Eigen::Index>(p.normal.size()));
   const int e = std::ilogb(raw_normal.cwiseAbs().maxCoeff());
   raw_normal = raw_normal.unaryExpr([e](double x) { return std::scalbn(x, -e); }).eval();
   if (!input.is_scene)

@@ -67,8 +67,8 @@ SectionFormat choose_format(const std::string& path, const std::string& forced) 
           (e.format == SectionFormat::off && (forced == "off" || forced == "noff"))) {
         // An extension that names another format would mislead whoever opens the file.
         if (by_extension && by_extension->format != e.format)
-          throw InputError("--format " + forced + " contradicts the extension of '" + path +
-                           "' (" + by_extension->name + "): name the file ." +
+          throw InputError("--format " + forced + " contradicts the extension of '" + path + "' (" +
+                           by_extension->name + "): name the file ." +
                            std::string(e.extensions[0] + 1) + " or drop --format");
         return e.format;
       }

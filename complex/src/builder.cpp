@@ -93,8 +93,7 @@ void orient_internal(Complex& c, int rank) {
   }
 }
 
-double component_volume(const Complex& c, const std::vector<std::uint32_t>& facets,
-                        double scale) {
+double component_volume(const Complex& c, const std::vector<std::uint32_t>& facets, double scale) {
   const int n = c.ambient_dim();
   const auto& p = c.positions();
   std::vector<std::uint32_t> verts;
@@ -112,8 +111,9 @@ double component_volume(const Complex& c, const std::vector<std::uint32_t>& face
   for (auto f : facets) {
     for_each_simplex(c, n - 1, f, [&](std::span<const std::uint32_t> v, int sign) {
       for (int j = 0; j < n; ++j) m.col(j) = scale * p.col(v[j]) - centre;
-      total += sign * (n == 4 ? Eigen::Matrix4d(m).determinant()
-                              : n == 3 ? Eigen::Matrix3d(m).determinant() : m.determinant());
+      total += sign * (n == 4   ? Eigen::Matrix4d(m).determinant()
+                       : n == 3 ? Eigen::Matrix3d(m).determinant()
+                                : m.determinant());
     });
   }
   return total;
@@ -148,8 +148,8 @@ double orientation_work(const Complex& c) {
     for (std::uint32_t i = 0; i < table.size(); ++i) {
       const std::uint32_t apex = c.first_vertex(k, i);
       for (auto j : table.ids(i)) {
-        const bool has = k == 3 ? face_has(j, apex)
-                                : std::binary_search(verts[j].begin(), verts[j].end(), apex);
+        const bool has =
+            k == 3 ? face_has(j, apex) : std::binary_search(verts[j].begin(), verts[j].end(), apex);
         if (!has) w[i] += below[j];
         if (k < fr) {
           if (k == 3) {
@@ -242,8 +242,9 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
     if (a >= nv || b >= nv)
       throw TopologyError(1, {e}, "edge " + std::to_string(e) + " refers to a vertex out of range");
     if (a == b)
-      throw TopologyError(1, {e}, "edge " + std::to_string(e) + " joins vertex " +
-                                      std::to_string(a) + " to itself");
+      throw TopologyError(
+          1, {e},
+          "edge " + std::to_string(e) + " joins vertex " + std::to_string(a) + " to itself");
     edge_of(a, b);
   }
   if (!soup.faces.empty()) {
@@ -258,8 +259,9 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
       sorted = cyc;
       std::sort(sorted.begin(), sorted.end());
       if (sorted.back() >= nv)
-        throw TopologyError(2, {f}, name + " refers to vertex " + std::to_string(sorted.back()) +
-                                        " but there are " + std::to_string(nv) + " vertices");
+        throw TopologyError(2, {f},
+                            name + " refers to vertex " + std::to_string(sorted.back()) +
+                                " but there are " + std::to_string(nv) + " vertices");
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
         throw TopologyError(2, {f}, name + " repeats a vertex");
       ids.clear();
@@ -285,10 +287,10 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
       sorted = list;
       std::sort(sorted.begin(), sorted.end());
       if (sorted.back() >= below)
-        throw TopologyError(rank, {x}, name + " refers to element " +
-                                           std::to_string(sorted.back()) + " of rank " +
-                                           std::to_string(rank - 1) + " but there are " +
-                                           std::to_string(below));
+        throw TopologyError(rank, {x},
+                            name + " refers to element " + std::to_string(sorted.back()) +
+                                " of rank " + std::to_string(rank - 1) + " but there are " +
+                                std::to_string(below));
       if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
         throw TopologyError(rank, {x}, name + " lists a boundary element twice");
       signs.assign(list.size(), 1);
@@ -297,7 +299,8 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
   }
   if (!soup.face_colors.empty()) c.colors_mut(2) = soup.face_colors;
   for (std::size_t j = 0; j < soup.higher_colors.size(); ++j)
-    if (!soup.higher_colors[j].empty()) c.colors_mut(static_cast<int>(j) + 3) = soup.higher_colors[j];
+    if (!soup.higher_colors[j].empty())
+      c.colors_mut(static_cast<int>(j) + 3) = soup.higher_colors[j];
   if (options.orient) {
     // One estimate for every model, however it was made (a family, an operator, a product, a
     // file): the work of orienting it, and of every later volume and normal, before doing it.

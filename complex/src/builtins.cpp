@@ -565,8 +565,8 @@ std::vector<ModelFamily> default_families() {
             "at most 2e6 elements)",
             make_spherinder);
   // Non-convex toratopes (toratopes.hpp): solids of revolution of a torus or a sphere.
-  auto add_toratope = [&f](const char* head, const char* usage, const char* description,
-                           int radii, std::function<Complex(const std::vector<double>&, int)> make) {
+  auto add_toratope = [&f](const char* head, const char* usage, const char* description, int radii,
+                           std::function<Complex(const std::vector<double>&, int)> make) {
     f.push_back(parametric_family(head, usage, description,
                                   [radii, make](const std::string& spec, std::string_view a) {
                                     const auto [r, n] = parse_radii_resolution(a, spec, radii);
@@ -579,9 +579,10 @@ std::vector<ModelFamily> default_families() {
   add_toratope("torisphere", "torisphere:R,r,N",
                "circle of radius r swept over a sphere of radius R (non-convex), N = 3..128", 2,
                [](const std::vector<double>& r, int n) { return make_torisphere(r[0], r[1], n); });
-  add_toratope("ditorus", "ditorus:R1,R2,r,N",
-               "torus (R2, r) swept around a circle of radius R1 (non-convex), N = 3..128", 3,
-               [](const std::vector<double>& r, int n) { return make_ditorus(r[0], r[1], r[2], n); });
+  add_toratope(
+      "ditorus", "ditorus:R1,R2,r,N",
+      "torus (R2, r) swept around a circle of radius R1 (non-convex), N = 3..128", 3,
+      [](const std::vector<double>& r, int n) { return make_ditorus(r[0], r[1], r[2], n); });
   add_toratope("tiger", "tiger:R1,R2,r,N",
                "tiger: (|(x,w)| - R1)^2 + (|(y,z)| - R2)^2 <= r^2 (non-convex), N = 3..128", 3,
                [](const std::vector<double>& r, int n) { return make_tiger(r[0], r[1], r[2], n); });
@@ -675,8 +676,7 @@ Complex load_model(const std::string& spec) {
   } nest;
   if (depth > max_model_nesting)
     throw InputError("model spec '" + (spec.size() > 60 ? spec.substr(0, 60) + "..." : spec) +
-                     "' nests operators more than " + std::to_string(max_model_nesting) +
-                     " deep");
+                     "' nests operators more than " + std::to_string(max_model_nesting) + " deep");
   if (const ModelFamily* family = find_family(spec)) return family->make(spec);
   std::error_code ec;
   if (std::filesystem::exists(spec, ec) || spec.find('/') != std::string::npos ||
@@ -688,12 +688,12 @@ Complex load_model(const std::string& spec) {
   const std::size_t colon = spec.find(':');
   const std::string guess =
       closest_name(colon == std::string::npos ? spec : spec.substr(0, colon + 1), names);
-  throw InputError("unknown model '" + spec + "': not a built-in (run 'cw4d list') and not a file name" +
-                   (guess.empty() ? std::string()
-                                  : "; did you mean '" +
-                                        (colon == std::string::npos ? guess
-                                                                    : guess + spec.substr(colon + 1)) +
-                                        "'?"));
+  throw InputError(
+      "unknown model '" + spec + "': not a built-in (run 'cw4d list') and not a file name" +
+      (guess.empty()
+           ? std::string()
+           : "; did you mean '" +
+                 (colon == std::string::npos ? guess : guess + spec.substr(colon + 1)) + "'?"));
 }
 
 std::string closest_name(std::string_view word, const std::vector<std::string>& candidates) {

@@ -84,7 +84,8 @@ struct SimplexWalker {
         const auto e = c.edge(ids[k]);
         cycle.push_back(signs[k] > 0 ? e[0] : e[1]);
       }
-      for (std::size_t k = 1; k + 1 < cycle.size(); ++k) emit({cycle[0], cycle[k], cycle[k + 1]}, sign);
+      for (std::size_t k = 1; k + 1 < cycle.size(); ++k)
+        emit({cycle[0], cycle[k], cycle[k + 1]}, sign);
       return;
     }
     const std::uint32_t apex = c.first_vertex(rank, i);
@@ -105,11 +106,16 @@ struct SimplexWalker {
 // det of an n x n matrix; closed forms for n <= 4 (no allocation).
 double det(const Eigen::MatrixXd& m) {
   switch (m.rows()) {
-    case 1: return m(0, 0);
-    case 2: return Eigen::Matrix2d(m).determinant();
-    case 3: return Eigen::Matrix3d(m).determinant();
-    case 4: return Eigen::Matrix4d(m).determinant();
-    default: return m.determinant();
+    case 1:
+      return m(0, 0);
+    case 2:
+      return Eigen::Matrix2d(m).determinant();
+    case 3:
+      return Eigen::Matrix3d(m).determinant();
+    case 4:
+      return Eigen::Matrix4d(m).determinant();
+    default:
+      return m.determinant();
   }
 }
 

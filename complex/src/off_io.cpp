@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <charconv>
-#include <filesystem>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <istream>
 #include <iterator>
@@ -155,7 +155,8 @@ class Parser {
   double parse_double(std::string_view tok, std::size_t line, const std::string& what) const {
     double v = 0;
     auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec == std::errc::result_out_of_range) fail(line, what + " " + show(tok) + " is out of range");
+    if (ec == std::errc::result_out_of_range)
+      fail(line, what + " " + show(tok) + " is out of range");
     if (ec != std::errc() || ptr != tok.data() + tok.size())
       fail(line, what + " " + show(tok) + " is not a number");
     if (!std::isfinite(v)) fail(line, what + " " + show(tok) + " is not finite");
@@ -201,8 +202,8 @@ class Parser {
     for (std::size_t i = 1; i <= k; ++i) {
       const std::uint64_t v = parse_count(l.tokens[i], l.number, (what + " entry").c_str());
       if (v >= bound)
-        fail(l.number, what + " refers to " + child + " " + std::to_string(v) + ", but there are only " +
-                           std::to_string(bound));
+        fail(l.number, what + " refers to " + child + " " + std::to_string(v) +
+                           ", but there are only " + std::to_string(bound));
       ids.push_back(static_cast<std::uint32_t>(v));
     }
     std::vector<std::uint32_t> sorted = ids;
@@ -229,9 +230,12 @@ class Parser {
     // that the refusal does not read like a corrupt file.
     if (h == "0OFF" || h == "1OFF" || h == "2OFF")
       fail(head.number, "header " + show(h) + " is Miratope's file of a " +
-                            (h[0] == '0' ? "point" : h[0] == '1' ? "segment" : "polygon") +
+                            (h[0] == '0'   ? "point"
+                             : h[0] == '1' ? "segment"
+                                           : "polygon") +
                             ", which cw4d does not read (it reads OFF and 4OFF to " +
-                            std::to_string(max_off_dim) + "OFF; polygon:P builds regular polygons)");
+                            std::to_string(max_off_dim) +
+                            "OFF; polygon:P builds regular polygons)");
     if (dim < 3 || dim > max_off_dim)
       fail(head.number, "header " + show(h) + " is not OFF, 4OFF or nOFF with n = 3.." +
                             std::to_string(max_off_dim));
@@ -283,7 +287,8 @@ class Parser {
       const Line& l = next("face " + std::to_string(f));
       Rgba color;
       bool has = false;
-      soup.faces.push_back(parse_list(l, nv, "face " + std::to_string(f), "vertex", 3, &color, &has));
+      soup.faces.push_back(
+          parse_list(l, nv, "face " + std::to_string(f), "vertex", 3, &color, &has));
       colors.push_back(color);
       any_color = any_color || has;
       where_.lines[2].push_back(l.number);
@@ -302,7 +307,8 @@ class Parser {
         const Line& l = next(kind + " " + std::to_string(x));
         Rgba color;
         bool has = false;
-        level.push_back(parse_list(l, below, kind + " " + std::to_string(x), child, 2, &color, &has));
+        level.push_back(
+            parse_list(l, below, kind + " " + std::to_string(x), child, 2, &color, &has));
         colors.push_back(color);
         any_color = any_color || has;
         where_.lines[k].push_back(l.number);

@@ -55,9 +55,9 @@ struct Checker {
       bool row_ok = true;
       for (std::size_t i = 0; i < ids.size(); ++i) {
         if (ids[i] >= below) {
-          add(rank, x, "boundary id " + std::to_string(ids[i]) + " out of range (" +
-                           std::to_string(below) + " elements of rank " +
-                           std::to_string(rank - 1) + ")");
+          add(rank, x,
+              "boundary id " + std::to_string(ids[i]) + " out of range (" + std::to_string(below) +
+                  " elements of rank " + std::to_string(rank - 1) + ")");
           row_ok = false;
         }
         if (signs[i] != 1 && signs[i] != -1) {
@@ -133,14 +133,15 @@ struct Checker {
         int sum = 0;
         while (j < acc.size() && acc[j].first == acc[i].first) sum += acc[j++].second;
         if (j - i != 2) {
-          add(rank, x, "not closed: " + element_name(rank - 2, acc[i].first) + " is used by " +
-                           std::to_string(j - i) + " of its boundary elements instead of 2");
+          add(rank, x,
+              "not closed: " + element_name(rank - 2, acc[i].first) + " is used by " +
+                  std::to_string(j - i) + " of its boundary elements instead of 2");
           break;
         }
         if (sum != 0) {
-          add(rank, x, "boundary of boundary is not zero at " +
-                           element_name(rank - 2, acc[i].first) +
-                           " (inconsistent orientation signs)");
+          add(rank, x,
+              "boundary of boundary is not zero at " + element_name(rank - 2, acc[i].first) +
+                  " (inconsistent orientation signs)");
           break;
         }
         i = j;
@@ -153,8 +154,9 @@ struct Checker {
     const int fr = n - 1;
     if (fr < 1) return;
     if (c.count(fr) == 0) {
-      add(fr, 0, "no facets: a closed complex in R^" + std::to_string(n) +
-                     " needs elements of rank " + std::to_string(fr));
+      add(fr, 0,
+          "no facets: a closed complex in R^" + std::to_string(n) + " needs elements of rank " +
+              std::to_string(fr));
       return;
     }
     const Incidence& facets = c.boundary(fr);
@@ -175,8 +177,8 @@ struct Checker {
             "bounds " + std::to_string(j - i) + " facets instead of 2 (surface not closed)");
       } else if (sum != 0) {
         add(fr, acc[i + 1].second.second,
-            "orientation disagrees with " + element_name(fr, acc[i].second.second) +
-                " across " + element_name(fr - 1, ridge));
+            "orientation disagrees with " + element_name(fr, acc[i].second.second) + " across " +
+                element_name(fr - 1, ridge));
       }
       i = j;
     }
@@ -219,8 +221,9 @@ struct Checker {
         diam = std::max(diam, (p.col(v) - p.col(verts[0])).norm());
       }
       if (hi - lo > tol::planarity_rel * diam)
-        add(fr, f, "not planar: its vertices spread " + std::to_string(hi - lo) +
-                       " across its hyperplane");
+        add(fr, f,
+            "not planar: its vertices spread " + std::to_string(hi - lo) +
+                " across its hyperplane");
     }
   }
 

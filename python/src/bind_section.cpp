@@ -230,30 +230,29 @@ void bind_section(py::module_& m) {
         return out.str();
       });
 
-  m.def(
-      "section",
-      [](const Complex& model, py::object normal, double offset,
-         const std::optional<AffineTransform>& transform) {
-        const Hyperplane plane = to_plane(normal, offset);
-        const AffineTransform xf = or_identity(transform, model.ambient_dim());
-        py::gil_scoped_release nogil;
-        return section(model, plane, xf);
-      },
-      py::arg("model"), py::arg("normal"), py::arg("offset"), py::arg("transform") = py::none(),
-      "Cuts `model`, placed in the world by `transform` (None: as it is), with the world-space "
-      "hyperplane {x : (n/|n|) . x = offset}; the GIL is released while it cuts.");
-  m.def(
-      "section_general",
-      [](const Complex& model, py::object normal, double offset,
-         const std::optional<AffineTransform>& transform) {
-        const Hyperplane plane = to_plane(normal, offset);
-        const AffineTransform xf = or_identity(transform, model.ambient_dim());
-        py::gil_scoped_release nogil;
-        return section_general(model, plane, xf);
-      },
-      py::arg("model"), py::arg("normal"), py::arg("offset"), py::arg("transform") = py::none(),
-      "The general layered cut alone (no fast path): same result as section(), the second "
-      "algorithm of the tests.");
+  // section() and section_general() take the same arguments and release the GIL alike.
+  const auto def_cut =
+      [&m](const char* name,
+           Section (*cut)(const Complex&, const Hyperplane&, const AffineTransform&),
+           const char* doc) {
+        m.def(
+            name,
+            [cut](const Complex& model, py::object normal, double offset,
+                  const std::optional<AffineTransform>& transform) {
+              const Hyperplane plane = to_plane(normal, offset);
+              const AffineTransform xf = or_identity(transform, model.ambient_dim());
+              py::gil_scoped_release nogil;
+              return cut(model, plane, xf);
+            },
+            py::arg("model"), py::arg("normal"), py::arg("offset"),
+            py::arg("transform") = py::none(), doc);
+      };
+  def_cut("section", &section,
+          "Cuts `model`, placed in the world by `transform` (None: as it is), with the "
+          "world-space hyperplane {x : (n/|n|) . x = offset}; the GIL is released while it cuts.");
+  def_cut("section_general", &section_general,
+          "The general layered cut alone (no fast path): same result as section(), the second "
+          "algorithm of the tests.");
 
   m.def(
       "_seconds_per_section",

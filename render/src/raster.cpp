@@ -34,7 +34,9 @@ Attr lerp(const Attr& a, const Attr& b, float t) {
           a.color + t * (b.color - a.color)};
 }
 
-Attr scaled(const Attr& a, float s) { return {a.position * s, a.normal * s, a.color * s}; }
+Attr scaled(const Attr& a, float s) {
+  return {a.position * s, a.normal * s, a.color * s};
+}
 
 struct ClipVertex {
   glm::vec4 clip;
@@ -69,12 +71,18 @@ DrawState make_state(const View& view, const Lighting& lighting, const DrawOptio
 // Inside when >= 0: the six frustum planes of OpenGL clip space.
 float plane_value(const glm::vec4& c, int plane) {
   switch (plane) {
-    case 0: return c.w + c.x;
-    case 1: return c.w - c.x;
-    case 2: return c.w + c.y;
-    case 3: return c.w - c.y;
-    case 4: return c.w + c.z;
-    default: return c.w - c.z;
+    case 0:
+      return c.w + c.x;
+    case 1:
+      return c.w - c.x;
+    case 2:
+      return c.w + c.y;
+    case 3:
+      return c.w - c.y;
+    case 4:
+      return c.w + c.z;
+    default:
+      return c.w - c.z;
   }
 }
 
@@ -230,7 +238,8 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
   const float inv_w = b[0] * t.inv_w[0] + b[1] * t.inv_w[1] + b[2] * t.inv_w[2];
   const float wgt = inv_w != 0.0f ? 1.0f / inv_w : 0.0f;
   Attr a;
-  a.position = (b[0] * t.attr[0].position + b[1] * t.attr[1].position + b[2] * t.attr[2].position) * wgt;
+  a.position =
+      (b[0] * t.attr[0].position + b[1] * t.attr[1].position + b[2] * t.attr[2].position) * wgt;
   a.normal = (b[0] * t.attr[0].normal + b[1] * t.attr[1].normal + b[2] * t.attr[2].normal) * wgt;
   a.color = (b[0] * t.attr[0].color + b[1] * t.attr[1].color + b[2] * t.attr[2].color) * wgt;
   return shade(d, a);
@@ -241,7 +250,8 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
 void TriangleMesh::append(const TriangleMesh& other) {
   const auto offset = static_cast<std::uint32_t>(vertices.size());
   vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
-  for (const auto& t : other.triangles) triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  for (const auto& t : other.triangles)
+    triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
 }
 
 Lighting Lighting::studio(const Camera& camera) {
@@ -250,10 +260,10 @@ Lighting Lighting::studio(const Camera& camera) {
   const glm::vec3 u = glm::cross(r, f);
   Lighting l;
   l.ambient = glm::vec3(0.2f);
-  l.lights.push_back({Light::Kind::Directional, glm::normalize(-f - 0.6f * r + 0.8f * u),
-                      glm::vec3(0.75f), 0.0f});
-  l.lights.push_back({Light::Kind::Directional, glm::normalize(-f + 0.9f * r - 0.2f * u),
-                      glm::vec3(0.25f), 0.0f});
+  l.lights.push_back(
+      {Light::Kind::Directional, glm::normalize(-f - 0.6f * r + 0.8f * u), glm::vec3(0.75f), 0.0f});
+  l.lights.push_back(
+      {Light::Kind::Directional, glm::normalize(-f + 0.9f * r - 0.2f * u), glm::vec3(0.25f), 0.0f});
   const float dist = glm::length(camera.eye - camera.target);
   l.lights.push_back({Light::Kind::Point, camera.eye, glm::vec3(0.15f),
                       dist > 0.0f ? 1.0f / (dist * dist) : 0.0f});
@@ -265,12 +275,15 @@ struct Rasterizer::Impl {
   std::vector<ScreenTriangle> triangles;
 };
 
-Rasterizer::Rasterizer(const RasterOptions& options) : options_(options), impl_(std::make_unique<Impl>()) {
-  if (options.width < 1 || options.height < 1 || options.width > kMaxSide || options.height > kMaxSide)
+Rasterizer::Rasterizer(const RasterOptions& options)
+    : options_(options), impl_(std::make_unique<Impl>()) {
+  if (options.width < 1 || options.height < 1 || options.width > kMaxSide ||
+      options.height > kMaxSide)
     throw InputError("image size " + std::to_string(options.width) + "x" +
                      std::to_string(options.height) + " outside 1..16384");
   if (options.samples_per_axis < 1 || options.samples_per_axis > 4)
-    throw InputError("samples per axis must be 1..4, not " + std::to_string(options.samples_per_axis));
+    throw InputError("samples per axis must be 1..4, not " +
+                     std::to_string(options.samples_per_axis));
   if (options.threads < 0) throw InputError("the thread count cannot be negative");
 }
 
@@ -278,7 +291,9 @@ Rasterizer::~Rasterizer() = default;
 Rasterizer::Rasterizer(Rasterizer&&) noexcept = default;
 Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
 
-std::size_t Rasterizer::queued_triangles() const { return impl_->triangles.size(); }
+std::size_t Rasterizer::queued_triangles() const {
+  return impl_->triangles.size();
+}
 
 void Rasterizer::clear() {
   impl_->draws.clear();
@@ -301,7 +316,8 @@ void run_parallel(std::size_t n, int threads, F&& f) {
 // Geometry stage over chunks: each chunk's output is kept apart and concatenated in order, so
 // the result is independent of the number of workers.
 template <class Produce>
-void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out, Produce&& produce) {
+void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out,
+                Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
   std::vector<std::vector<ScreenTriangle>> parts(chunks);
   run_parallel(chunks, threads, [&](std::size_t c) {
@@ -370,48 +386,52 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   const int w = options_.width, h = options_.height;
   const float half = 0.5f * std::max(options.line_width, 0.0f);
   const std::size_t first = impl_->triangles.size();
-  run_chunks(lines.size(), worker_count(options_.threads), impl_->triangles,
-             [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
-               for (std::size_t i = begin; i < end; ++i) {
-                 const LineSegment& s = lines[i];
-                 glm::vec3 a = s.a, b = s.b;
-                 if (options.pull_toward_viewer != 0.0f) {
-                   a += options.pull_toward_viewer * view.to_viewer(a);
-                   b += options.pull_toward_viewer * view.to_viewer(b);
-                 }
-                 ClipVertex ca{view.clip_from_world * glm::vec4(a, 1.0f), {a, {}, s.color_a}};
-                 ClipVertex cb{view.clip_from_world * glm::vec4(b, 1.0f), {b, {}, s.color_b}};
-                 // Liang-Barsky in homogeneous coordinates.
-                 float t0 = 0.0f, t1 = 1.0f;
-                 bool visible = true;
-                 for (int p = 0; p < 6 && visible; ++p) {
-                   const float da = plane_value(ca.clip, p), db = plane_value(cb.clip, p);
-                   if (da < 0.0f && db < 0.0f) visible = false;
-                   else if (da < 0.0f) t0 = std::max(t0, da / (da - db));
-                   else if (db < 0.0f) t1 = std::min(t1, da / (da - db));
-                 }
-                 if (!visible || t0 >= t1) continue;
-                 const ClipVertex pa{ca.clip + t0 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t0)};
-                 const ClipVertex pb{ca.clip + t1 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t1)};
-                 const ScreenVertex sa = to_screen(pa, w, h), sb = to_screen(pb, w, h);
-                 glm::vec2 d(sb.x - sa.x, sb.y - sa.y);
-                 const float len = glm::length(d);
-                 d = len > 1e-6f ? d / len : glm::vec2(1.0f, 0.0f);
-                 const glm::vec2 n(-d.y * half, d.x * half);
-                 const glm::vec2 e = d * half;
-                 auto corner = [](const ScreenVertex& v, glm::vec2 off) {
-                   ScreenVertex c = v;
-                   c.x += off.x;
-                   c.y += off.y;
-                   return c;
-                 };
-                 const ScreenVertex q0 = corner(sa, -e + n), q1 = corner(sa, -e - n);
-                 const ScreenVertex q2 = corner(sb, e - n), q3 = corner(sb, e + n);
-                 ScreenTriangle st;
-                 if (setup(q0, q1, q2, false, w, h, draw_id, st)) out.push_back(st);
-                 if (setup(q0, q2, q3, false, w, h, draw_id, st)) out.push_back(st);
-               }
-             });
+  run_chunks(
+      lines.size(), worker_count(options_.threads), impl_->triangles,
+      [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const LineSegment& s = lines[i];
+          glm::vec3 a = s.a, b = s.b;
+          if (options.pull_toward_viewer != 0.0f) {
+            a += options.pull_toward_viewer * view.to_viewer(a);
+            b += options.pull_toward_viewer * view.to_viewer(b);
+          }
+          ClipVertex ca{view.clip_from_world * glm::vec4(a, 1.0f), {a, {}, s.color_a}};
+          ClipVertex cb{view.clip_from_world * glm::vec4(b, 1.0f), {b, {}, s.color_b}};
+          // Liang-Barsky in homogeneous coordinates.
+          float t0 = 0.0f, t1 = 1.0f;
+          bool visible = true;
+          for (int p = 0; p < 6 && visible; ++p) {
+            const float da = plane_value(ca.clip, p), db = plane_value(cb.clip, p);
+            if (da < 0.0f && db < 0.0f)
+              visible = false;
+            else if (da < 0.0f)
+              t0 = std::max(t0, da / (da - db));
+            else if (db < 0.0f)
+              t1 = std::min(t1, da / (da - db));
+          }
+          if (!visible || t0 >= t1) continue;
+          const ClipVertex pa{ca.clip + t0 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t0)};
+          const ClipVertex pb{ca.clip + t1 * (cb.clip - ca.clip), lerp(ca.attr, cb.attr, t1)};
+          const ScreenVertex sa = to_screen(pa, w, h), sb = to_screen(pb, w, h);
+          glm::vec2 d(sb.x - sa.x, sb.y - sa.y);
+          const float len = glm::length(d);
+          d = len > 1e-6f ? d / len : glm::vec2(1.0f, 0.0f);
+          const glm::vec2 n(-d.y * half, d.x * half);
+          const glm::vec2 e = d * half;
+          auto corner = [](const ScreenVertex& v, glm::vec2 off) {
+            ScreenVertex c = v;
+            c.x += off.x;
+            c.y += off.y;
+            return c;
+          };
+          const ScreenVertex q0 = corner(sa, -e + n), q1 = corner(sa, -e - n);
+          const ScreenVertex q2 = corner(sb, e - n), q3 = corner(sb, e + n);
+          ScreenTriangle st;
+          if (setup(q0, q1, q2, false, w, h, draw_id, st)) out.push_back(st);
+          if (setup(q0, q2, q3, false, w, h, draw_id, st)) out.push_back(st);
+        }
+      });
   if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
 }
 
@@ -501,14 +521,17 @@ Image Rasterizer::render() const {
       if (over) flush();  // blending needs the colors underneath
       const Edges e = edges_of(t);
       for (int k = 0; k < 3; ++k)
-        for (int q = 0; q < spp; ++q) edge_sample[k * spp + q] = e.A[k] * off_x[q] + e.B[k] * off_y[q];
+        for (int q = 0; q < spp; ++q)
+          edge_sample[k * spp + q] = e.A[k] * off_x[q] + e.B[k] * off_y[q];
       std::int64_t max_offset[3];
       for (int k = 0; k < 3; ++k)
-        max_offset[k] = *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
+        max_offset[k] =
+            *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
       const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
       const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
       if (px0 > px1 || py0 > py1) continue;
-      const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel, step2 = e.A[2] * kSubpixel;
+      const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel,
+                         step2 = e.A[2] * kSubpixel;
       for (int py = py0; py <= py1; ++py) {
         const std::int64_t Y = static_cast<std::int64_t>(py) * kSubpixel;
         const std::int64_t X0 = static_cast<std::int64_t>(px0) * kSubpixel;
@@ -526,9 +549,12 @@ Image Rasterizer::render() const {
             if (best < 0) hi = lo - 1;
             continue;
           }
-          const double x = std::clamp(-static_cast<double>(best) / static_cast<double>(steps[k]), -1e9, 1e9);
-          if (steps[k] > 0) lo = std::max(lo, px0 + static_cast<int>(std::floor(x)));
-          else hi = std::min(hi, px0 + static_cast<int>(std::ceil(x)));
+          const double x =
+              std::clamp(-static_cast<double>(best) / static_cast<double>(steps[k]), -1e9, 1e9);
+          if (steps[k] > 0)
+            lo = std::max(lo, px0 + static_cast<int>(std::floor(x)));
+          else
+            hi = std::min(hi, px0 + static_cast<int>(std::ceil(x)));
         }
         if (lo > hi) continue;
         e0 += step0 * (lo - px0);

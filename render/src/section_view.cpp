@@ -167,9 +167,8 @@ Image render_section(const Section& section, const SectionViewOptions& o, const 
     e.shading = Shading::Unlit;
     e.line_width = o.edge_width;
     const float dist = glm::length(camera.eye - camera.target);
-    e.pull_toward_viewer = 2e-3f * (camera.projection == Projection::Orthographic
-                                        ? camera.ortho_height
-                                        : dist);
+    e.pull_toward_viewer =
+        2e-3f * (camera.projection == Projection::Orthographic ? camera.ortho_height : dist);
     r.draw_lines(section_edges(section, o.edge_color), view, e);
   }
   if (!translucent.triangles.empty()) {

@@ -14,7 +14,8 @@ template <class Term>
 void combine_chain(std::vector<Term>& chain) {
   if (chain.size() <= 16) {  // the usual few terms: insertion sort
     for (std::size_t i = 1; i < chain.size(); ++i)
-      for (std::size_t j = i; j > 0 && chain[j].id < chain[j - 1].id; --j) std::swap(chain[j], chain[j - 1]);
+      for (std::size_t j = i; j > 0 && chain[j].id < chain[j - 1].id; --j)
+        std::swap(chain[j], chain[j - 1]);
   } else {
     std::sort(chain.begin(), chain.end(), [](const Term& a, const Term& b) { return a.id < b.id; });
   }

@@ -110,6 +110,7 @@ Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& nrm) {
   return basis;
 }
 
-HyperplaneFrame::HyperplaneFrame(const Hyperplane& p) : plane(p), basis(hyperplane_basis(p.normal)) {}
+HyperplaneFrame::HyperplaneFrame(const Hyperplane& p)
+    : plane(p), basis(hyperplane_basis(p.normal)) {}
 
 }  // namespace cw4d

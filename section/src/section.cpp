@@ -58,7 +58,8 @@ std::vector<std::size_t> order_along_line(std::size_t n, At at) {
   for (std::size_t i = 0; i < n; ++i) key[i] = (at(i) - at(0)).dot(dir);
   std::vector<std::size_t> order(n);
   for (std::size_t i = 0; i < n; ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
   return order;
 }
 
@@ -70,10 +71,16 @@ struct CutResult {
 // One pass of the layered algorithm with on-plane vertices counted on side `tie`.
 class Cutter {
  public:
-  Cutter(const Complex& model, const std::vector<double>& s, const std::vector<Side>& side,
-         int tie, bool degenerate, double weld)
-      : m_(model), s_(s), side_(side), tie_(tie), degenerate_(degenerate), weld_(weld),
-        n_(model.ambient_dim()), out_(model.ambient_dim() - 1) {}
+  Cutter(const Complex& model, const std::vector<double>& s, const std::vector<Side>& side, int tie,
+         bool degenerate, double weld)
+      : m_(model),
+        s_(s),
+        side_(side),
+        tie_(tie),
+        degenerate_(degenerate),
+        weld_(weld),
+        n_(model.ambient_dim()),
+        out_(model.ambient_dim() - 1) {}
 
   CutResult run();
 
@@ -126,7 +133,8 @@ void Cutter::cut_edges() {
       img.push({});
       continue;
     }
-    const int coef = pa < 0 ? 1 : -1;  // +1 when the edge runs from the negative side to the positive
+    const int coef =
+        pa < 0 ? 1 : -1;  // +1 when the edge runs from the negative side to the positive
     std::uint32_t v;
     if (side_[a] == Side::On || side_[b] == Side::On) {
       const std::uint32_t on = side_[a] == Side::On ? a : b;
@@ -166,7 +174,8 @@ std::uint32_t Cutter::dedupe(int r, std::vector<Term>& row, std::uint32_t source
     std::vector<std::uint32_t> key = ids;
     std::sort(key.begin(), key.end());
     if (static_cast<int>(row_index_.size()) <= r) row_index_.resize(r + 1);
-    auto [it, fresh] = row_index_[r].try_emplace(std::move(key), static_cast<std::uint32_t>(table.size()));
+    auto [it, fresh] =
+        row_index_[r].try_emplace(std::move(key), static_cast<std::uint32_t>(table.size()));
     if (!fresh) {
       // Same boundary set: the same element, possibly with the opposite orientation.
       const std::uint32_t existing = it->second;
@@ -187,8 +196,8 @@ void Cutter::emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vec
     int rel = 1;
     std::uint32_t id;
     if (degenerate_) {
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(tail, head)) << 32) |
-                                std::max(tail, head);
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(std::min(tail, head)) << 32) | std::max(tail, head);
       auto [it, fresh] = edge_index_.try_emplace(key, static_cast<std::uint32_t>(out_.count(1)));
       if (fresh) {
         id = out_.add_edge(tail, head);
@@ -222,9 +231,8 @@ void Cutter::emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vec
   for (const Term& t : chain) pts.push_back({t.id, t.coef});
   if (pts.size() < 2) return;
   auto at = [&](std::uint32_t v) { return Eigen::Map<const Eigen::VectorXd>(&pos_[v * n_], n_); };
-  const std::vector<std::size_t> order = order_along_line(pts.size(), [&](std::size_t i) {
-    return at(pts[i].id);
-  });
+  const std::vector<std::size_t> order =
+      order_along_line(pts.size(), [&](std::size_t i) { return at(pts[i].id); });
   int running = 0;
   for (std::size_t k = 0; k + 1 < order.size(); ++k) {
     running += pts[order[k]].coef;
@@ -345,8 +353,8 @@ CutResult Cutter::run() {
 }
 
 CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term>& solids) {
-  const int on = n_ - 1;      // dimension of the section
-  const int ofr = on - 1;     // rank of the section's facets
+  const int on = n_ - 1;   // dimension of the section
+  const int ofr = on - 1;  // rank of the section's facets
   const int otop = out_.top_rank();
   Section sec;
   // Keep what the surviving facets (and solids) reach, drop the rest, renumber.
@@ -375,7 +383,8 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
       if (keep[r][i]) remap[r][i] = next++;
   }
   Complex result(on);
-  Eigen::MatrixXd positions(n_, static_cast<Eigen::Index>(std::count(keep[0].begin(), keep[0].end(), 1)));
+  Eigen::MatrixXd positions(
+      n_, static_cast<Eigen::Index>(std::count(keep[0].begin(), keep[0].end(), 1)));
   for (std::size_t v = 0; v < keep[0].size(); ++v)
     if (keep[0][v]) {
       positions.col(remap[0][v]) = Eigen::Map<const Eigen::VectorXd>(&pos_[v * n_], n_);

@@ -106,14 +106,22 @@ bool every_element_bounds(const Complex& c, int below_rank) {
 
 const char* to_string(FallbackReason r) {
   switch (r) {
-    case FallbackReason::None: return "none";
-    case FallbackReason::Model: return "model";
-    case FallbackReason::OnPlane: return "on-plane";
-    case FallbackReason::Weld: return "weld";
-    case FallbackReason::FaceCut: return "face-cut";
-    case FallbackReason::CellCut: return "cell-cut";
-    case FallbackReason::Multiplicity: return "multiplicity";
-    case FallbackReason::NearParallel: return "near-parallel";
+    case FallbackReason::None:
+      return "none";
+    case FallbackReason::Model:
+      return "model";
+    case FallbackReason::OnPlane:
+      return "on-plane";
+    case FallbackReason::Weld:
+      return "weld";
+    case FallbackReason::FaceCut:
+      return "face-cut";
+    case FallbackReason::CellCut:
+      return "cell-cut";
+    case FallbackReason::Multiplicity:
+      return "multiplicity";
+    case FallbackReason::NearParallel:
+      return "near-parallel";
   }
   return "?";
 }
@@ -367,9 +375,9 @@ bool SliceModel::compiled_from(const Complex& c) const {
 
 std::size_t SliceModel::bytes() const {
   std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
-                  facet_normals_.size() * sizeof(double) +
-                  vertex_id_.size() * 4 + cluster_vertex_.size() * 4 +
-                  cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
+                  facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
+                  cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +
+                  cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;
@@ -400,17 +408,17 @@ std::size_t SliceBuffers::fan_triangles() const {
 // per slice in fixed-size arrays (no allocation).
 struct Slicer::Placement {
   int n = 0;
-  double nm[kMaxDim] = {};    // A^T n
-  double dm = 0.0;            // d - n.t
+  double nm[kMaxDim] = {};  // A^T n
+  double dm = 0.0;          // d - n.t
   double nm_norm = 0.0;
-  double tol = 0.0;           // ON band
+  double tol = 0.0;                  // ON band
   double M[kMaxDim * kMaxDim] = {};  // section coords y = M x + c (row-major, (n-1) x n)
   double c[kMaxDim] = {};
   double N[kMaxDim * kMaxDim] = {};  // projected normals: basis^T A^{-T} (row-major)
   bool reflect = false;
   const Hyperplane* plane = nullptr;
   double basis[kMaxDim * kMaxDim] = {};  // n x (n-1) column-major
-  double A[kMaxDim * kMaxDim] = {};  // row-major
+  double A[kMaxDim * kMaxDim] = {};      // row-major
   double t[kMaxDim] = {};
 
   // Everything that does not depend on the plane offset.
@@ -449,7 +457,8 @@ struct Slicer::Placement {
       for (int i = k + 1; i < n; ++i)
         if (std::abs(a[i * n + k]) > std::abs(a[piv * n + k])) piv = i;
       if (piv != k) {
-        for (int j = 0; j < n; ++j) std::swap(a[k * n + j], a[piv * n + j]), std::swap(inv[k * n + j], inv[piv * n + j]);
+        for (int j = 0; j < n; ++j)
+          std::swap(a[k * n + j], a[piv * n + j]), std::swap(inv[k * n + j], inv[piv * n + j]);
         sign = -sign;
       }
       const double d = a[k * n + k];
@@ -458,7 +467,8 @@ struct Slicer::Placement {
       for (int i = 0; i < n; ++i) {
         if (i == k) continue;
         const double f = a[i * n + k];
-        for (int j = 0; j < n; ++j) a[i * n + j] -= f * a[k * n + j], inv[i * n + j] -= f * inv[k * n + j];
+        for (int j = 0; j < n; ++j)
+          a[i * n + j] -= f * a[k * n + j], inv[i * n + j] -= f * inv[k * n + j];
       }
     }
     reflect = sign < 0;
@@ -671,7 +681,8 @@ void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
   const std::vector<std::uint32_t>& off = m.up_offsets_[k];
   const std::vector<std::uint32_t>& ids = m.up_ids_[k];
   std::vector<std::uint64_t>& bits = mark_[k + 1];
-  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) bits[ids[i] >> 6] |= std::uint64_t{1} << (ids[i] & 63);
+  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i)
+    bits[ids[i] >> 6] |= std::uint64_t{1} << (ids[i] & 63);
 }
 
 bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
@@ -695,7 +706,8 @@ void Slicer::prepare(const SliceModel& m) {
     gen_ = 1;
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
-  if (images_.size() < static_cast<std::size_t>(top + 1)) images_.resize(top + 1), terms_.resize(top + 1);
+  if (images_.size() < static_cast<std::size_t>(top + 1))
+    images_.resize(top + 1), terms_.resize(top + 1);
   if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
   for (int k = 1; k <= top; ++k) {
     const std::size_t count = m.ranks_[k].offsets.size() - 1;
@@ -744,13 +756,14 @@ bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& ou
   return true;
 }
 
-bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                               SliceBuffers& out) {
+bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
+                               const SliceOptions& options, SliceBuffers& out) {
   const int n = m.dim_;
   const std::size_t nc = m.cluster_count();
   touched_.clear();
   for (std::size_t c = 0; c < nc; ++c)
-    if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
+    if (!options.cull ||
+        pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
       touched_.push_back(static_cast<std::uint32_t>(c));
   // Signed values of the touched clusters' vertices (of all vertices, once each, when every
   // cluster is touched: the clusters' vertex lists share their border vertices).
@@ -921,7 +934,8 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
       return process(x);
     };
     auto visit = [&](std::uint32_t b, std::uint32_t e) {
-      return use_kernel ? visit_marked(bits, b, e, kernel_process) : visit_marked(bits, b, e, process);
+      return use_kernel ? visit_marked(bits, b, e, kernel_process)
+                        : visit_marked(bits, b, e, process);
     };
     if (k == top && m.single_solid_ && k == 3) {
       // The one solid of a polyhedron: its cut's boundary is every section edge, with the
@@ -1009,11 +1023,10 @@ namespace {
 // time (the loops unroll; the arithmetic is the same, term for term). False when a facet is
 // nearly parallel to the plane.
 template <int N>
-bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M,
-                   const double* c, const double* Nm, const double* facet_normals,
+bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M, const double* c,
+                   const double* Nm, const double* facet_normals,
                    std::span<const std::uint32_t> section_edge, const VertexSource* source,
-                   std::span<const std::uint32_t> facet_internal, double* coords,
-                   double* normals) {
+                   std::span<const std::uint32_t> facet_internal, double* coords, double* normals) {
   constexpr int O = N - 1;
   // Vertices: y = M ((1 - t) a + t b) + c.
   for (std::size_t i = 0; i < section_edge.size(); ++i) {
@@ -1057,23 +1070,25 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   out.coords.resize(section_edge.size() * o);
   out.facet_normals.resize(facet_internal.size() * o);
   const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
-  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N,
-            m.facet_normals_.data(), section_edge, out.vertex_source.data(), facet_internal,
-            out.coords.data(), out.facet_normals.data()))
+  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, m.facet_normals_.data(),
+            section_edge, out.vertex_source.data(), facet_internal, out.coords.data(),
+            out.facet_normals.data()))
     return fail(FallbackReason::NearParallel);
   return true;
 }
 
 bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                    SliceBuffers& out) {
-  if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect) return false;
+  if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
+    return false;
   const int n = m.dim_;
   const std::size_t nv = m.positions_.size() / n;
   const std::size_t nc = m.cluster_count();
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   touched_.clear();
   for (std::size_t c = 0; c < nc; ++c)
-    if (!options.cull || pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
+    if (!options.cull ||
+        pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
       touched_.push_back(static_cast<std::uint32_t>(c));
   if (touched_ != out.cache_touched_) return false;
   const double* P = m.positions_.data();
@@ -1099,8 +1114,9 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
 
 // --- sweeps ---------------------------------------------------------------------------------
 
-void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span<const double> offsets,
-                   const AffineTransform& xf, std::vector<SliceBuffers>& out, unsigned threads) {
+void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
+                   std::span<const double> offsets, const AffineTransform& xf,
+                   std::vector<SliceBuffers>& out, unsigned threads) {
   if (offsets.empty()) {
     out.clear();
     return;
@@ -1128,11 +1144,12 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal, std::span
   for (unsigned t = 0; t + 1 < threads; ++t) before[t] = helpers_[t].fast_count_;
   const std::size_t per = (order.size() + threads - 1) / threads;
   fork_join(threads, [&](unsigned t) {
-    const std::size_t b = std::min(order.size(), t * per), e = std::min(order.size(), (t + 1) * per);
+    const std::size_t b = std::min(order.size(), t * per),
+                      e = std::min(order.size(), (t + 1) * per);
     if (b < e)
       (t == 0 ? *this : helpers_[t - 1])
-          .sweep_layers(m, proto, xf, offsets, std::span<const std::uint32_t>(order).subspan(b, e - b),
-                        out);
+          .sweep_layers(m, proto, xf, offsets,
+                        std::span<const std::uint32_t>(order).subspan(b, e - b), out);
   });
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
 }
@@ -1208,7 +1225,8 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   active_.clear();
   for (std::size_t j = 0; j < L; ++j) {
     const double d = D[j];
-    for (std::uint32_t i = bucket_offsets_[j]; i < bucket_offsets_[j + 1]; ++i) active_.push_back(bucket_ids_[i]);
+    for (std::uint32_t i = bucket_offsets_[j]; i < bucket_offsets_[j + 1]; ++i)
+      active_.push_back(bucket_ids_[i]);
     std::size_t keep = 0;
     for (std::uint32_t e : active_)
       if (edge_top_[e] > d) active_[keep++] = e;
@@ -1289,7 +1307,8 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
                      std::to_string(dim_));
   out.resize(objects_.size());
   threads = resolve_threads(threads);
-  threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
+  threads = static_cast<unsigned>(
+      std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
   // The culling pass: one flat array of world-space spheres.
   std::vector<char>& culled = culled_;
@@ -1343,7 +1362,8 @@ Section to_section_untested(const SliceBuffers& b) {
   Complex c(dim);
   const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());
   c.set_positions(Eigen::Map<const Eigen::MatrixXd>(b.coords.data(), dim, nv));
-  for (std::size_t r = 1; r <= b.boundary.size(); ++r) c.boundary_mut(static_cast<int>(r)) = b.boundary[r - 1];
+  for (std::size_t r = 1; r <= b.boundary.size(); ++r)
+    c.boundary_mut(static_cast<int>(r)) = b.boundary[r - 1];
   const int ofr = dim - 1;
   if (ofr >= 1 && c.count(ofr) > 0 && !b.facet_normals.empty())
     c.set_facet_normals(Eigen::Map<const Eigen::MatrixXd>(

@@ -270,10 +270,11 @@ void register_hull_models() {
   register_model_family(named_family({"snub cube", "snub-cube", "snic", "wythoff:s4s3s"},
                                      "snub cube s4s3s: 32 triangles and 6 squares, edge 2",
                                      make_snub_cube));
-  register_model_family(named_family({"snub dodecahedron", "snub-dodecahedron", "snid", "wythoff:s5s3s"},
-                                     "snub dodecahedron s5s3s: 80 triangles and 12 pentagons, "
-                                     "edge 2",
-                                     make_snub_dodecahedron));
+  register_model_family(
+      named_family({"snub dodecahedron", "snub-dodecahedron", "snid", "wythoff:s5s3s"},
+                   "snub dodecahedron s5s3s: 80 triangles and 12 pentagons, "
+                   "edge 2",
+                   make_snub_dodecahedron));
   register_model_family(named_family({"snub 24-cell", "snub-24-cell", "sadi", "wythoff:s3s4o3o"},
                                      "snub 24-cell s3s4o3o: hull of the even permutations of "
                                      "(0, +-1, +-phi, +-phi^2), edge 2",

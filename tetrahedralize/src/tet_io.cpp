@@ -133,13 +133,7 @@ std::vector<double> cell_heights(const TetMesh& mesh, const Eigen::Vector4d& cen
 }  // namespace
 
 bool SchlegelView::faces_eye(const TetMesh& mesh, std::uint32_t cell) const {
-  const Eigen::Vector4d n = mesh.cell_normals.col(cell);
-  double d = -std::numeric_limits<double>::infinity();
-  for (std::size_t t = 0; t < mesh.size(); ++t) {
-    if (mesh.tet_cell[t] != cell) continue;
-    for (int k = 0; k < 4; ++k) d = std::max(d, n.dot(mesh.corner_position(t, k) - centre));
-  }
-  return n.dot(eye() - centre) > d;
+  return mesh.cell_normals.col(cell).dot(eye() - centre) > cell_heights(mesh, centre)[cell];
 }
 
 SchlegelView schlegel_view(const TetMesh& mesh) {
@@ -189,6 +183,7 @@ std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
   points.reserve(12 * nt);
   const SchlegelView view = nt ? schlegel_view(mesh) : SchlegelView{};
   const std::vector<double> heights = cell_heights(mesh, view.centre);
+  const Eigen::Vector4d eye = view.eye() - view.centre;
   for (std::size_t t = 0; t < nt; ++t) {
     const Eigen::Vector4d n = mesh.tet_normal(t);
     std::array<Eigen::Vector3d, 4> p;
@@ -197,7 +192,7 @@ std::string vtu_text(const TetMesh& mesh, VtuEncoding enc) {
     std::array<int, 4> order{0, 1, 2, 3};
     if ((p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) < 0.0) std::swap(order[1], order[2]);
     const std::uint32_t c = mesh.tet_cell[t];
-    front.push_back(mesh.cell_normals.col(c).dot(view.eye() - view.centre) > heights[c] ? 1 : 0);
+    front.push_back(mesh.cell_normals.col(c).dot(eye) > heights[c] ? 1 : 0);
     for (int k : order) {
       const Eigen::Vector4d x = mesh.corner_position(t, k);
       const Eigen::Vector3d u = mesh.corner_uvw_of(t, k);

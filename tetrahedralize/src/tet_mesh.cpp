@@ -581,7 +581,8 @@ TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetSta
     } else {
       // The same box map the CW section's exporters use (section/uvw.hpp).
       if (box_maps.empty()) box_maps = facet_texture_maps(complex);
-      const Eigen::Matrix<double, 3, 4> to_uvw = box_maps[cell].to_uvw;  // fixed size: no allocation
+      const Eigen::Matrix<double, 3, 4> to_uvw =
+          box_maps[cell].to_uvw;  // fixed size: no allocation
       const Eigen::Vector4d origin = box_maps[cell].origin;
       for (std::size_t t = t0; t < t1; ++t)
         for (int k = 0; k < 4; ++k)

@@ -73,6 +73,25 @@ double TetSection::area() const {
 
 namespace {
 
+// Crossing edge e of a sign case: its corners (ka, kb) in the tetrahedron and their vertices
+// (a, b), ordered so that a < b, which makes the crossing point the same from every tetrahedron
+// sharing the edge.
+struct CrossingEdge {
+  int ka, kb;
+  std::uint32_t a, b;
+};
+inline CrossingEdge crossing_edge(const TetCutCase& cc, int e,
+                                  const std::array<std::uint32_t, 4>& tv) {
+  const auto& k = cc.edges[static_cast<std::size_t>(e)];
+  CrossingEdge c{k[0], k[1], tv[static_cast<std::size_t>(k[0])],
+                 tv[static_cast<std::size_t>(k[1])]};
+  if (c.a > c.b) {
+    std::swap(c.a, c.b);
+    std::swap(c.ka, c.kb);
+  }
+  return c;
+}
+
 // The cut when no vertex is on the plane (every crossing is interior to its edge, no triangle
 // degenerates, no face lies in the plane): the masks once, the output sized once, each cut
 // tetrahedron written straight into its final columns. The same triangles, in the same order
@@ -107,7 +126,8 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
   thread_local std::vector<std::uint32_t> cell_stamp;
   thread_local std::vector<Eigen::Vector3d> cell_n3;
   thread_local std::uint32_t stamp = 0;
-  if (cell_stamp.size() < mesh.cell_count()) cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(mesh.cell_count());
+  if (cell_stamp.size() < mesh.cell_count())
+    cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(mesh.cell_count());
   if (++stamp == 0) {  // wrapped: forget every stamp
     std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
     stamp = 1;
@@ -128,13 +148,7 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
     Eigen::Vector3d pos[4], uvw[4];
     TetCutPoint cut[4];
     for (int e = 0; e < cc.count; ++e) {
-      int ka = cc.edges[static_cast<std::size_t>(e)][0],
-          kb = cc.edges[static_cast<std::size_t>(e)][1];
-      std::uint32_t a = tv[static_cast<std::size_t>(ka)], b = tv[static_cast<std::size_t>(kb)];
-      if (a > b) {
-        std::swap(a, b);
-        std::swap(ka, kb);
-      }
+      const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
       const double u = s[a] / (s[a] - s[b]);
       cut[e] = {a, b, u};
       const Eigen::Map<const Eigen::Vector4d> pa(P + 4 * a), pb(P + 4 * b);
@@ -265,13 +279,7 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
       uvw_buf.clear();
       cut_buf.clear();
       for (int e = 0; e < cc.count; ++e) {
-        int ka = cc.edges[static_cast<std::size_t>(e)][0],
-            kb = cc.edges[static_cast<std::size_t>(e)][1];
-        std::uint32_t a = tv[static_cast<std::size_t>(ka)], b = tv[static_cast<std::size_t>(kb)];
-        if (a > b) {
-          std::swap(a, b);
-          std::swap(ka, kb);
-        }
+        const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
         TetCutPoint cp;
         if (side[a] == Side::On) {
           cp = {a, a, 0.0};

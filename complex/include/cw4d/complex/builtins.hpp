@@ -30,7 +30,7 @@ Complex make_duoprism(int p, int q);
 
 /// One entry of the list of built-in model specs.
 struct BuiltinInfo {
-  std::string spec;         ///< e.g. "duoprism:P,Q"
+  std::string spec;  ///< e.g. "duoprism:P,Q"
   std::string description;
 };
 /// Every registered model family, then the file entry (what `cw4d list` prints).
@@ -40,7 +40,7 @@ std::vector<BuiltinInfo> builtin_list();
 /// Libraries outside complex/ (e.g. CGAL hulls in tetrahedralize/) add theirs with
 /// register_model_family, so that load_model and the CLI accept them.
 struct ModelFamily {
-  std::string usage;        ///< as listed, e.g. "duoprism:P,Q"; also the family's identity
+  std::string usage;  ///< as listed, e.g. "duoprism:P,Q"; also the family's identity
   std::string description;
   /// Whether a lower-cased spec belongs to this family.
   std::function<bool(std::string_view lowered)> matches;

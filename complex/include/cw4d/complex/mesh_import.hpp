@@ -16,8 +16,8 @@ namespace cw4d {
 /// single precision. Silences OpenMesh's own error stream while reading (not thread-safe).
 /// \throw ParseError (FILE:0) when the file is missing, not a regular file, larger than
 ///        max_input_file_bytes, announces more elements than its size can hold, OpenMesh cannot
-///        read it, or the faces do not bound a closed, valid polyhedron (open mesh, three faces on one
-///        edge, ...).
+///        read it, or the faces do not bound a closed, valid polyhedron (open mesh, three faces on
+///        one edge, ...).
 Complex read_polyhedron(const std::string& path);
 
 }  // namespace cw4d

@@ -92,8 +92,8 @@ struct DrawOptions {
 struct RasterOptions {
   int width = 800;
   int height = 600;
-  int samples_per_axis = 2;  ///< 1..4: s x s samples per pixel
-  int threads = 0;           ///< 0: std::thread::hardware_concurrency()
+  int samples_per_axis = 2;    ///< 1..4: s x s samples per pixel
+  int threads = 0;             ///< 0: std::thread::hardware_concurrency()
   glm::vec4 background{0.0f};  ///< linear, premultiplied; transparent by default
 };
 

@@ -1,11 +1,10 @@
 #pragma once
-// Stereographic projection of a polytope's edges ([wxyhly 2024], "球极投影"): the polytope is scaled
-// onto the unit 3-sphere about its centre (each edge becomes the great arc its points project
-// radially to), then projected from the north pole (0, 0, 0, 1) to R^3 by
-// (x, y, z, w) -> (x, y, z) / (1 - w). Edges are subdivided adaptively, so curves stay smooth
-// where the projection stretches them near the pole, and drawn as lines or as thin tubes whose
-// radius follows the projection's conformal factor 1 / (1 - w) (tubes of constant width on the
-// sphere).
+// Stereographic projection of a polytope's edges ([wxyhly 2024], "球极投影"): the polytope is
+// scaled onto the unit 3-sphere about its centre (each edge becomes the great arc its points
+// project radially to), then projected from the north pole (0, 0, 0, 1) to R^3 by (x, y, z, w) ->
+// (x, y, z) / (1 - w). Edges are subdivided adaptively, so curves stay smooth where the projection
+// stretches them near the pole, and drawn as lines or as thin tubes whose radius follows the
+// projection's conformal factor 1 / (1 - w) (tubes of constant width on the sphere).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <glm/vec3.hpp>
@@ -56,10 +55,12 @@ struct StereographicOptions {
 
 /// The stereographic image of every edge of a 4D complex, subdivided (curves broken where they
 /// come within 1e-9 of the pole or leave clip_radius). \throw InputError when not 4D.
-std::vector<ProjectedCurve> stereographic_curves(const Complex& model, const StereographicOptions& options);
+std::vector<ProjectedCurve> stereographic_curves(const Complex& model,
+                                                 const StereographicOptions& options);
 
 /// Tube mesh around the curves (radius scaled by 1 / (1 - w)), colored along w.
-TriangleMesh tube_mesh(const std::vector<ProjectedCurve>& curves, const StereographicOptions& options);
+TriangleMesh tube_mesh(const std::vector<ProjectedCurve>& curves,
+                       const StereographicOptions& options);
 
 /// The picture. \throw InputError when the model is not 4D.
 Image render_stereographic(const Complex& model, const StereographicOptions& options);

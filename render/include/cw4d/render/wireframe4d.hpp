@@ -79,7 +79,7 @@ class ConvexOccluder {
 /// direction and whose other columns are the retina axes, and a field of view.
 struct Camera4 {
   Eigen::VectorXd eye;
-  Eigen::MatrixXd frame;  ///< n x n orthonormal; columns: retina axes, then forward
+  Eigen::MatrixXd frame;      ///< n x n orthonormal; columns: retina axes, then forward
   double fov_degrees = 60.0;  ///< full angle of the frustum along every retina axis
   double near_plane = 0.05;
   double far_plane = 1e6;
@@ -91,7 +91,9 @@ struct Camera4 {
                          double fov_degrees = 60.0);
   int dim() const { return static_cast<int>(eye.size()); }
   /// Camera coordinates (retina axes..., depth).
-  Eigen::VectorXd to_camera(const Eigen::VectorXd& x) const { return frame.transpose() * (x - eye); }
+  Eigen::VectorXd to_camera(const Eigen::VectorXd& x) const {
+    return frame.transpose() * (x - eye);
+  }
   /// The frustum as world half-spaces: near, far and two per retina axis.
   std::vector<HalfSpace> frustum() const;
   /// Retina coordinates in [-1, 1]^(n-1) of a point inside the frustum.
@@ -118,7 +120,7 @@ struct WireframeOptions {
   Projection projection = Projection::Perspective;
   float line_width = 2.0f;
   bool occlusion = true;
-  bool retina_box = true;  ///< draw the retina cube's edges
+  bool retina_box = true;      ///< draw the retina cube's edges
   glm::vec3 background{1.0f};  ///< linear
 };
 

@@ -42,10 +42,11 @@ double plane_value(const Eigen::VectorXd& n, double d, const double* x);
 ///    uses the height n.x summed in a fixed order, minus d, whose error is below 5 ulps of the
 ///    scale), then this function with the tolerance of tolerances.hpp (plane_side_ulps), itself
 ///    computed deterministically. Outside the ON band the sign of s is the sign of the exact
-///    n.x - d for the given doubles (the band exceeds either evaluation's error). Inside it the vertex is ON, and ON vertices are
-///    resolved by symbolic perturbation: they count as Positive, i.e. the plane is moved by
-///    -epsilon along n (the limit of generic planes), and only when that leaves no section at
-///    all, as Negative (+epsilon), so a plane containing a facet returns that facet.
+///    n.x - d for the given doubles (the band exceeds either evaluation's error). Inside it the
+///    vertex is ON, and ON vertices are resolved by symbolic perturbation: they count as Positive,
+///    i.e. the plane is moved by -epsilon along n (the limit of generic planes), and only when that
+///    leaves no section at all, as Negative (+epsilon), so a plane containing a facet returns that
+///    facet.
 ///  - which cut points of a face pair up: the face's boundary chain on the cut line, ordered
 ///    along the line (stable sort by projection, ties in id order) and weighted by the running
 ///    winding number (section.cpp, emit_edges): purely a function of the decisions above and of
@@ -86,7 +87,9 @@ struct HyperplaneFrame {
   explicit HyperplaneFrame(const Hyperplane& p);
   HyperplaneFrame() = default;
   Eigen::VectorXd origin() const { return plane.offset * plane.normal; }
-  Eigen::VectorXd to_plane(const Eigen::VectorXd& x) const { return basis.transpose() * (x - origin()); }
+  Eigen::VectorXd to_plane(const Eigen::VectorXd& x) const {
+    return basis.transpose() * (x - origin());
+  }
   Eigen::VectorXd lift(const Eigen::VectorXd& y) const { return origin() + basis * y; }
 };
 

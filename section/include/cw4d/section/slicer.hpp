@@ -98,9 +98,9 @@ class SliceModel {
   int dim_ = 0;
   int top_ = 0;
   bool fast_ = false;
-  std::vector<double> positions_;        // dim_ per internal vertex
-  std::vector<std::uint32_t> vertex_id_; // internal vertex -> model vertex (empty: identity)
-  std::vector<Rank> ranks_;              // ranks_[k], k = 1..top_ (ranks_[0] unused)
+  std::vector<double> positions_;         // dim_ per internal vertex
+  std::vector<std::uint32_t> vertex_id_;  // internal vertex -> model vertex (empty: identity)
+  std::vector<Rank> ranks_;               // ranks_[k], k = 1..top_ (ranks_[0] unused)
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
   // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach.
   std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
@@ -109,14 +109,14 @@ class SliceModel {
   bool single_solid_ = false;
   std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
-  std::vector<double> facet_normals_;    // dim_ per internal facet
-  std::vector<double> edge_length_;      // per internal edge
+  std::vector<double> facet_normals_;  // dim_ per internal facet
+  std::vector<double> edge_length_;    // per internal edge
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
   std::vector<std::vector<std::uint32_t>> begin_;
   std::vector<std::uint32_t> cluster_vertex_, cluster_vertices_;
-  std::vector<double> cluster_sphere_;   // (dim_ centre, radius) per cluster
+  std::vector<double> cluster_sphere_;  // (dim_ centre, radius) per cluster
   Eigen::VectorXd centre_;
   double radius_ = 0.0;
   double max_norm_ = 0.0;  // sqrt of the largest squared vertex norm (tolerance scale)
@@ -128,21 +128,22 @@ class SliceModel {
 /// one SliceBuffers for the slices of an animation keeps its storage and lets the topology
 /// cache reuse the previous slice's connectivity.
 struct SliceBuffers {
-  int dim = 0;                        ///< dimension of the section (the model's minus one)
-  Hyperplane plane;                   ///< the world-space plane
-  std::vector<double> coords;         ///< dim per vertex, coordinates in HyperplaneFrame(plane)
+  int dim = 0;                 ///< dimension of the section (the model's minus one)
+  Hyperplane plane;            ///< the world-space plane
+  std::vector<double> coords;  ///< dim per vertex, coordinates in HyperplaneFrame(plane)
   std::vector<VertexSource> vertex_source;
-  std::vector<Incidence> boundary;    ///< boundary[r - 1]: the section's elements of rank r
+  std::vector<Incidence> boundary;  ///< boundary[r - 1]: the section's elements of rank r
   std::vector<std::vector<std::uint32_t>> source;  ///< source[r]: model element of rank r + 1
-  std::vector<double> facet_normals;  ///< dim per facet (rank dim - 1), unit
-  bool general = false;               ///< true when the general path made these buffers
+  std::vector<double> facet_normals;               ///< dim per facet (rank dim - 1), unit
+  bool general = false;  ///< true when the general path made these buffers
   FallbackReason fallback = FallbackReason::None;  ///< why, when general
-  bool reused_topology = false;       ///< true when the topology cache answered the last slice
+  bool reused_topology = false;  ///< true when the topology cache answered the last slice
 
   std::size_t count(int rank) const {
     if (rank < 0) return 0;
-    return rank == 0 ? vertex_source.size()
-                     : rank <= static_cast<int>(boundary.size()) ? boundary[rank - 1].size() : 0;
+    return rank == 0                                   ? vertex_source.size()
+           : rank <= static_cast<int>(boundary.size()) ? boundary[rank - 1].size()
+                                                       : 0;
   }
   bool empty() const { return vertex_source.empty(); }
   /// Triangles of a fan over every polygon (rank 2), what a GPU would draw.
@@ -158,7 +159,7 @@ struct SliceBuffers {
   std::vector<Incidence> spare_tables_;
   std::vector<std::vector<std::uint32_t>> spare_sources_;
   // Topology cache: what the last fast slice decided.
-  std::uint64_t cache_model_ = 0;             // SliceModel::serial_ (never reused, unlike addresses)
+  std::uint64_t cache_model_ = 0;  // SliceModel::serial_ (never reused, unlike addresses)
   std::vector<std::uint32_t> cache_touched_;  // clusters touched
   std::vector<std::int8_t> cache_side_;       // sides of their vertices, in that order
   std::vector<std::uint32_t> cache_edge_;     // internal edge of each section vertex
@@ -188,8 +189,9 @@ class Slicer {
  public:
   /// Cuts `model` placed by model_to_world with the world-space plane into `out`.
   /// \throw InputError as section().
-  void slice(const SliceModel& model, const Hyperplane& plane, const AffineTransform& model_to_world,
-             SliceBuffers& out, const SliceOptions& options = {});
+  void slice(const SliceModel& model, const Hyperplane& plane,
+             const AffineTransform& model_to_world, SliceBuffers& out,
+             const SliceOptions& options = {});
   void slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
              const SliceOptions& options = {});
 
@@ -205,9 +207,9 @@ class Slicer {
   /// buffers are identical for every thread count.
   /// \throw InputError when the normal is zero or not finite, an offset is not finite, or the
   ///        dimensions disagree.
-  void sweep(const SliceModel& model, const Eigen::VectorXd& normal, std::span<const double> offsets,
-             const AffineTransform& model_to_world, std::vector<SliceBuffers>& out,
-             unsigned threads = 1);
+  void sweep(const SliceModel& model, const Eigen::VectorXd& normal,
+             std::span<const double> offsets, const AffineTransform& model_to_world,
+             std::vector<SliceBuffers>& out, unsigned threads = 1);
 
   /// Fast-path slices since construction, and how many of them the topology cache answered.
   std::size_t fast_slices() const { return fast_count_; }
@@ -273,7 +275,7 @@ class Slicer {
   void mark_parents(const SliceModel& m, int k, std::uint32_t x);
   bool fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                          SliceBuffers& out);
-  std::vector<std::uint32_t> section_edge_;  // internal model edge of each section vertex
+  std::vector<std::uint32_t> section_edge_;    // internal model edge of each section vertex
   std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
   std::vector<std::uint32_t> row_ids_;
   std::vector<std::int8_t> row_signs_;

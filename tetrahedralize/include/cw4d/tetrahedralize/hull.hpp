@@ -2,8 +2,8 @@
 // Convex hulls of point sets as CW complexes, and the model families built from them.
 //
 // The hull itself comes from CGAL's dD triangulation (GPL: fenced in this library, see
-// docs/ARCHITECTURE.md); on top of it coplanar hull simplices are merged into true polygonal faces and
-// polyhedral cells, so the result is the face lattice of the polytope, not a triangulation.
+// docs/ARCHITECTURE.md); on top of it coplanar hull simplices are merged into true polygonal faces
+// and polyhedral cells, so the result is the face lattice of the polytope, not a triangulation.
 #include <Eigen/Core>
 
 #include <string>
