@@ -36,6 +36,7 @@ PACKAGES=(
   python3-vtk9
   nodejs
   clang
+  clang-format
   libclang-rt-14-dev
   libosmesa6-dev
   python3-dev
@@ -251,12 +252,30 @@ run_browser_test() {
     --samples tests/data/miratope
 }
 
+# --- (c'') test mode only: every C++ file is formatted by .clang-format ---------------------------
+# Lists the files `clang-format` would change (Debian's clang-format 14) and fails if there is one;
+# `clang-format -i FILE` fixes it. Only files tracked by git are checked.
+check_format() {
+  local file bad=()
+  command -v clang-format >/dev/null 2>&1 || die "clang-format is missing (Debian package clang-format)"
+  git rev-parse --is-inside-work-tree >/dev/null 2>&1 || { log "not a git checkout: format check skipped"; return 0; }
+  while IFS= read -r file; do
+    clang-format --dry-run --Werror "$file" >/dev/null 2>&1 || bad+=("$file")
+  done < <(git ls-files '*.cpp' '*.hpp' '*.h' '*.cc')
+  if ((${#bad[@]} > 0)); then
+    log "not formatted by .clang-format (fix with clang-format -i): ${bad[*]}"
+    return 1
+  fi
+  log "every C++ file is formatted"
+}
+
 install_missing_packages
 configure_and_build
 build_web
 
 # --- the job ------------------------------------------------------------------------------------
 if [[ "$MODE" == test ]]; then
+  check_format || exit 1
   install_test_tools
   log "testing"
   status=0

@@ -49,7 +49,9 @@ void row(const char* stage, const Status& s) {
   std::printf("| %-34s | %9.1f | %9.1f | %9.1f |\n", stage, s.rss, s.hwm, s.maxrss);
 }
 
-double mib(std::size_t b) { return static_cast<double>(b) / (1024.0 * 1024.0); }
+double mib(std::size_t b) {
+  return static_cast<double>(b) / (1024.0 * 1024.0);
+}
 
 }  // namespace
 
@@ -89,8 +91,9 @@ int main(int argc, char** argv) {
   std::printf("output (SliceBuffers)       %9.1f MiB\n", mib(output));
   std::printf("RSS growth, SliceModel      %9.1f MiB\n", after_model.rss - base.rss);
   std::printf("RSS growth, Slicer + output %9.1f MiB\n", after_slice.rss - after_model.rss);
-  std::printf("peak increase over the built Complex (VmHWM after slice - VmRSS before compile)\n"
-              "                            %9.1f MiB = %.2fx (input + output)\n",
-              peak, peak / (mib(input) + mib(output)));
+  std::printf(
+      "peak increase over the built Complex (VmHWM after slice - VmRSS before compile)\n"
+      "                            %9.1f MiB = %.2fx (input + output)\n",
+      peak, peak / (mib(input) + mib(output)));
   return 0;
 }

@@ -136,9 +136,11 @@ inline Torus make_torus(int nu, int nv, bool solid) {
   Eigen::Index f = 0;
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
-      const std::uint32_t a = vid(i, j), b = vid(i + 1, j), cc = vid(i + 1, j + 1), d = vid(i, j + 1);
+      const std::uint32_t a = vid(i, j), b = vid(i + 1, j), cc = vid(i + 1, j + 1),
+                          d = vid(i, j + 1);
       // a -> b -> c: e_u(a) +, e_v(b) +, e_d(a) -;  a -> c -> d: e_d(a) +, e_u(d) -, e_v(a) -.
-      const std::uint32_t t1[3] = {3 * a, 3 * b + 1, 3 * a + 2}, t2[3] = {3 * a + 2, 3 * d, 3 * a + 1};
+      const std::uint32_t t1[3] = {3 * a, 3 * b + 1, 3 * a + 2},
+                          t2[3] = {3 * a + 2, 3 * d, 3 * a + 1};
       const std::int8_t s1[3] = {1, 1, -1}, s2[3] = {1, -1, -1};
       faces.add_row(t1, s1);
       faces.add_row(t2, s2);

@@ -26,21 +26,22 @@ struct RatioLine {
   /// The figure, or nothing when a benchmark it needs did not run.
   std::function<std::optional<double>(const Measurements&)> value;
   std::function<bool(double)> met;  ///< empty: a figure without a target
-  std::string format = "%.2fx";  ///< printf format of the figure
-  double scale = 1.0;            ///< the figure is printed times this
+  std::string format = "%.2fx";     ///< printf format of the figure
+  double scale = 1.0;               ///< the figure is printed times this
 };
 
 /// time(a) / time(b), CPU or wall clock.
 inline std::function<std::optional<double>(const Measurements&)> time_ratio(std::string a,
                                                                             std::string b,
                                                                             bool wall = false) {
-  return [a = std::move(a), b = std::move(b), wall](const Measurements& m) -> std::optional<double> {
-    const auto ia = m.find(a), ib = m.find(b);
-    if (ia == m.end() || ib == m.end()) return std::nullopt;
-    const double ta = wall ? ia->second.real : ia->second.cpu;
-    const double tb = wall ? ib->second.real : ib->second.cpu;
-    return tb > 0.0 ? std::optional<double>(ta / tb) : std::nullopt;
-  };
+  return
+      [a = std::move(a), b = std::move(b), wall](const Measurements& m) -> std::optional<double> {
+        const auto ia = m.find(a), ib = m.find(b);
+        if (ia == m.end() || ib == m.end()) return std::nullopt;
+        const double ta = wall ? ia->second.real : ia->second.cpu;
+        const double tb = wall ? ib->second.real : ib->second.cpu;
+        return tb > 0.0 ? std::optional<double>(ta / tb) : std::nullopt;
+      };
 }
 
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -72,7 +73,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
       char figure[64];
       std::snprintf(figure, sizeof figure, line.format.c_str(), *v * line.scale);
       std::printf("  %-64s %12s   %-10s %s\n", line.label.c_str(), figure, line.target.c_str(),
-                  !line.met ? "" : line.met(*v) ? "met" : "NOT met");
+                  !line.met      ? ""
+                  : line.met(*v) ? "met"
+                                 : "NOT met");
     }
     std::fflush(stdout);
   }

@@ -164,7 +164,8 @@ void bm_llvmpipe(benchmark::State& state, const Case* c) {
   }
   for (auto _ : state) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.indices.size()), GL_UNSIGNED_INT, g.indices.data());
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(g.indices.size()), GL_UNSIGNED_INT,
+                   g.indices.data());
     glFinish();
     benchmark::DoNotOptimize(g.buffer.data());
   }
@@ -181,13 +182,22 @@ void register_cases() {
   for (const Case& c : cases()) {
     const Case* p = &c;
     benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1").c_str(), bm_cw4d, p, 1, 0)
-        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
-    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1/threads:1").c_str(), bm_cw4d, p, 1, 1)
-        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
+    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1/threads:1").c_str(), bm_cw4d, p, 1,
+                                 1)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
     benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:2x2").c_str(), bm_cw4d, p, 2, 0)
-        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
     benchmark::RegisterBenchmark(("llvmpipe/" + c.name).c_str(), bm_llvmpipe, p)
-        ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
   }
 }
 
@@ -208,7 +218,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
       const auto gl = times_.find("llvmpipe/" + c.name + "/min_time:1.000/real_time");
       if (gl == times_.end()) continue;
       for (const char* variant : {"samples:1", "samples:1/threads:1", "samples:2x2"}) {
-        const auto ours = times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
+        const auto ours =
+            times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
         if (ours == times_.end()) continue;
         std::printf("  %-18s %-20s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
       }

@@ -217,7 +217,8 @@ void scene_touched_only(benchmark::State& state) {
     run();
     benchmark::DoNotOptimize(out.data());
   }
-  state.counters["touched"] = static_cast<double>(touched.size()) / static_cast<double>(sc.objects.size());
+  state.counters["touched"] =
+      static_cast<double>(touched.size()) / static_cast<double>(sc.objects.size());
 }
 
 // The culling test alone over flat (centre, radius) records.
@@ -263,10 +264,10 @@ std::size_t stream_bytes(const cw4d::SliceModel& m) {
   const std::size_t n = static_cast<std::size_t>(m.dim()), nv = c.count(0), ne = c.count(1),
                     nc = m.cluster_count();
   const int top = c.top_rank(), fr = m.dim() - 1;
-  std::size_t other = nv * n * 8 + c.count(fr) * n * 8  // positions, facet normals
-                      + nv * 4                            // vertex_id_
-                      + (nc + 1) * 4                      // cluster_vertex_
-                      + nc * (n + 1) * 8                  // cluster spheres
+  std::size_t other = nv * n * 8 + c.count(fr) * n * 8                // positions, facet normals
+                      + nv * 4                                        // vertex_id_
+                      + (nc + 1) * 4                                  // cluster_vertex_
+                      + nc * (n + 1) * 8                              // cluster spheres
                       + static_cast<std::size_t>(fr) * (nc + 1) * 4;  // begin_
   for (int k = 1; k <= top; ++k) {
     const std::size_t count = c.count(k), entries = c.boundary(k).all_ids().size();
@@ -383,7 +384,8 @@ void memory_copy(benchmark::State& state) {
 
 // --- registration and the ratios --------------------------------------------------------------
 
-benchmark::internal::Benchmark* add(const std::string& name, std::function<void(benchmark::State&)> fn,
+benchmark::internal::Benchmark* add(const std::string& name,
+                                    std::function<void(benchmark::State&)> fn,
                                     bool default_min_time, bool wall = false) {
   auto* b = benchmark::RegisterBenchmark(name.c_str(), std::move(fn));
   b->Unit(benchmark::kMillisecond);
@@ -394,8 +396,8 @@ benchmark::internal::Benchmark* add(const std::string& name, std::function<void(
 
 /// bytes/s of benchmark a over bytes/s of benchmark b (counter `bytes_a` of a, "bytes" of b,
 /// per iteration, CPU time).
-std::function<std::optional<double>(const Measurements&)> rate_ratio(std::string a, std::string b,
-                                                                     std::string bytes_a = "bytes") {
+std::function<std::optional<double>(const Measurements&)> rate_ratio(
+    std::string a, std::string b, std::string bytes_a = "bytes") {
   return [a = std::move(a), b = std::move(b),
           bytes_a = std::move(bytes_a)](const Measurements& m) -> std::optional<double> {
     const auto ia = m.find(a), ib = m.find(b);
@@ -415,7 +417,8 @@ std::function<std::optional<double>(const Measurements&)> counter(std::string ru
 
 std::function<std::optional<double>(const Measurements&)> rate(std::string run,
                                                                std::string bytes = "bytes") {
-  return [run = std::move(run), bytes = std::move(bytes)](const Measurements& m) -> std::optional<double> {
+  return [run = std::move(run),
+          bytes = std::move(bytes)](const Measurements& m) -> std::optional<double> {
     const auto it = m.find(run);
     if (it == m.end() || !it->second.counters.count(bytes)) return std::nullopt;
     return it->second.counters.at(bytes) / it->second.cpu;
@@ -428,31 +431,47 @@ std::vector<RatioLine> register_all(bool dmt) {
   const auto at_most = [](double x) { return [x](double v) { return v <= x; }; };
   // a, e: sweeps.
   for (const std::string name : {"120-cell", "600-cell", "grid-1e4"}) {
-    add("slices/" + name, [name](benchmark::State& s) { slices(s, name); }, dmt);
-    add("sweep/" + name + "/threads:1", [name](benchmark::State& s) { sweep(s, name, 1); }, dmt, true);
-    add("sweep/" + name + "/threads:2", [name](benchmark::State& s) { sweep(s, name, 2); }, dmt, true);
+    add(
+        "slices/" + name, [name](benchmark::State& s) { slices(s, name); }, dmt);
+    add(
+        "sweep/" + name + "/threads:1", [name](benchmark::State& s) { sweep(s, name, 1); }, dmt,
+        true);
+    add(
+        "sweep/" + name + "/threads:2", [name](benchmark::State& s) { sweep(s, name, 2); }, dmt,
+        true);
     lines.push_back({"a. 256 x slice() / one 256-layer sweep(), " + name, ">= 5x",
                      time_ratio("slices/" + name, "sweep/" + name + "/threads:1"), at_least(5.0)});
   }
   // b, e: scenes.
-  add("scene/1pct/cull", [](benchmark::State& s) { scene_slice(s, false, true, 1); }, dmt);
-  add("scene/1pct/nocull", [](benchmark::State& s) { scene_slice(s, false, false, 1); }, dmt);
+  add(
+      "scene/1pct/cull", [](benchmark::State& s) { scene_slice(s, false, true, 1); }, dmt);
+  add(
+      "scene/1pct/nocull", [](benchmark::State& s) { scene_slice(s, false, false, 1); }, dmt);
   add("scene/1pct/touched-only", scene_touched_only, dmt);
   add("scene/1pct/sphere-test", scene_sphere_test, dmt);
-  add("scene/50pct/threads:1", [](benchmark::State& s) { scene_slice(s, true, true, 1); }, dmt, true);
-  add("scene/50pct/threads:2", [](benchmark::State& s) { scene_slice(s, true, true, 2); }, dmt, true);
+  add(
+      "scene/50pct/threads:1", [](benchmark::State& s) { scene_slice(s, true, true, 1); }, dmt,
+      true);
+  add(
+      "scene/50pct/threads:2", [](benchmark::State& s) { scene_slice(s, true, true, 2); }, dmt,
+      true);
   lines.push_back({"b. scene of 10^4 objects: culled / unculled time", "<= 3 %",
-                   time_ratio("scene/1pct/cull", "scene/1pct/nocull"), at_most(0.03), "%.2f %%", 100});
+                   time_ratio("scene/1pct/cull", "scene/1pct/nocull"), at_most(0.03), "%.2f %%",
+                   100});
   lines.push_back({"b. (objects the plane touches)", "~1 %", counter("scene/1pct/cull", "touched"),
                    nullptr, "%.2f %%", 100});
   lines.push_back({"b. (only the touched objects, one Slicer / unculled)", "",
-                   time_ratio("scene/1pct/touched-only", "scene/1pct/nocull"), nullptr, "%.2f %%", 100});
+                   time_ratio("scene/1pct/touched-only", "scene/1pct/nocull"), nullptr, "%.2f %%",
+                   100});
   lines.push_back({"b. (sphere test of all objects, flat array / unculled)", "",
-                   time_ratio("scene/1pct/sphere-test", "scene/1pct/nocull"), nullptr, "%.3f %%", 100});
+                   time_ratio("scene/1pct/sphere-test", "scene/1pct/nocull"), nullptr, "%.3f %%",
+                   100});
   // c: the big model and the memory.
   for (const std::string name : {"big", "big-nosolids"}) {
-    add(name + "/slice/nocull", [name](benchmark::State& s) { big_slice(s, name, false); }, dmt);
-    add(name + "/slice/cull", [name](benchmark::State& s) { big_slice(s, name, true); }, dmt);
+    add(
+        name + "/slice/nocull", [name](benchmark::State& s) { big_slice(s, name, false); }, dmt);
+    add(
+        name + "/slice/cull", [name](benchmark::State& s) { big_slice(s, name, true); }, dmt);
   }
   add("big/vertex-pass", big_vertex_pass, dmt);
   add("memory/sum", memory_sum, dmt);
@@ -469,8 +488,8 @@ std::vector<RatioLine> register_all(bool dmt) {
                    rate_ratio("big/slice/nocull", "memory/sum", "model_bytes"), nullptr});
   lines.push_back({"c. (streamed bytes/s / sum)", "",
                    rate_ratio("big/slice/nocull", "memory/sum", "stream_bytes"), nullptr});
-  lines.push_back({"c. (input Complex, MB)", "", counter("big/slice/nocull", "bytes"), nullptr,
-                   "%.1f", 1e-6});
+  lines.push_back(
+      {"c. (input Complex, MB)", "", counter("big/slice/nocull", "bytes"), nullptr, "%.1f", 1e-6});
   lines.push_back({"c. (SliceModel::bytes(), MB)", "", counter("big/slice/nocull", "model_bytes"),
                    nullptr, "%.1f", 1e-6});
   lines.push_back({"c. (streamed: positions + edge ids + cluster vertex lists, MB)", "",
@@ -479,10 +498,11 @@ std::vector<RatioLine> register_all(bool dmt) {
                    rate_ratio("big/vertex-pass", "memory/sum"), nullptr});
   lines.push_back({"c. (unculled slice time / bare vertex pass time)", "",
                    time_ratio("big/slice/nocull", "big/vertex-pass"), nullptr});
-  lines.push_back({"c. (unculled slice, Complex GB/s)", "", rate("big/slice/nocull"), nullptr, "%.2f", 1e-9});
+  lines.push_back(
+      {"c. (unculled slice, Complex GB/s)", "", rate("big/slice/nocull"), nullptr, "%.2f", 1e-9});
   lines.push_back({"c. (sum of 1 GiB, GB/s)", "", rate("memory/sum"), nullptr, "%.2f", 1e-9});
-  lines.push_back({"c. (copy of 1 GiB, GB/s read + written)", "", rate("memory/copy"), nullptr,
-                   "%.2f", 1e-9});
+  lines.push_back(
+      {"c. (copy of 1 GiB, GB/s read + written)", "", rate("memory/copy"), nullptr, "%.2f", 1e-9});
   lines.push_back({"c. (culled / unculled time, same plane)", "",
                    time_ratio("big/slice/cull", "big/slice/nocull"), nullptr, "%.2f %%", 100});
   lines.push_back({"c. (same, model without rank-4 solids)", "",
@@ -494,9 +514,10 @@ std::vector<RatioLine> register_all(bool dmt) {
   lines.push_back({"e. scene, plane touching ~50 %: 1 thread / 2 threads (wall)", "(2 cores)",
                    time_ratio("scene/50pct/threads:1", "scene/50pct/threads:2", true), nullptr});
   for (const std::string name : {"120-cell", "600-cell", "grid-1e4"})
-    lines.push_back({"e. sweep " + name + ": 1 thread / 2 threads (wall)", "(2 cores)",
-                     time_ratio("sweep/" + name + "/threads:1", "sweep/" + name + "/threads:2", true),
-                     nullptr});
+    lines.push_back(
+        {"e. sweep " + name + ": 1 thread / 2 threads (wall)", "(2 cores)",
+         time_ratio("sweep/" + name + "/threads:1", "sweep/" + name + "/threads:2", true),
+         nullptr});
   return lines;
 }
 

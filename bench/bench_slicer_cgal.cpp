@@ -52,7 +52,8 @@ const TorusCase& torus_case() {
     t->open = make_torus(kGrid, kGrid, false);
     std::vector<Mesh::Vertex_index> v;
     v.reserve(t->torus.points.size());
-    for (const auto& p : t->torus.points) v.push_back(t->mesh.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
+    for (const auto& p : t->torus.points)
+      v.push_back(t->mesh.add_vertex(K::Point_3(p.x(), p.y(), p.z())));
     for (const auto& f : t->torus.tris) t->mesh.add_face(v[f[0]], v[f[1]], v[f[2]]);
     t->model = std::make_unique<SliceModel>(t->torus.complex);
     t->open_model = std::make_unique<SliceModel>(t->open.complex);
@@ -77,7 +78,8 @@ std::string compare(const SliceBuffers& ours, const Polylines& theirs) {
     const bool c = pl.size() > 1 && pl.front() == pl.back();
     (c ? closed : open) += 1;
     points += c ? pl.size() - 1 : pl.size();
-    for (std::size_t i = 1; i < pl.size(); ++i) length += std::sqrt(CGAL::squared_distance(pl[i - 1], pl[i]));
+    for (std::size_t i = 1; i < pl.size(); ++i)
+      length += std::sqrt(CGAL::squared_distance(pl[i - 1], pl[i]));
   }
   double our_length = 0.0;
   const Incidence& edges = ours.boundary[0];
@@ -96,15 +98,18 @@ std::string compare(const SliceBuffers& ours, const Polylines& theirs) {
       while (root[v] != v) v = root[v] = root[root[v]];
       return v;
     };
-    for (std::size_t e = 0; e < edges.size(); ++e) root[find(edges.ids(e)[0])] = find(edges.ids(e)[1]);
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      root[find(edges.ids(e)[0])] = find(edges.ids(e)[1]);
     loops = 0;
     for (std::uint32_t v = 0; v < root.size(); ++v) loops += find(v) == v;
   }
   std::string why;
   if (ours.general) why += " general path;";
   if (open != 0) why += " open CGAL polylines;";
-  if (closed != loops) why += " loops " + std::to_string(loops) + " vs " + std::to_string(closed) + ";";
-  if (points != ours.count(0)) why += " points " + std::to_string(ours.count(0)) + " vs " + std::to_string(points) + ";";
+  if (closed != loops)
+    why += " loops " + std::to_string(loops) + " vs " + std::to_string(closed) + ";";
+  if (points != ours.count(0))
+    why += " points " + std::to_string(ours.count(0)) + " vs " + std::to_string(points) + ";";
   if (std::abs(length - our_length) > 1e-9 * length) why += " lengths differ;";
   return why;
 }
@@ -172,7 +177,8 @@ void cgal_construct_slice(benchmark::State& state) {
 
 }  // namespace
 
-void register_cgal_benchmarks(bool default_min_time, double min_time, std::vector<RatioLine>& lines) {
+void register_cgal_benchmarks(bool default_min_time, double min_time,
+                              std::vector<RatioLine>& lines) {
   const auto add = [&](const char* name, void (*fn)(benchmark::State&)) {
     auto* b = benchmark::RegisterBenchmark(name, fn);
     b->Unit(benchmark::kMillisecond);
@@ -187,7 +193,8 @@ void register_cgal_benchmarks(bool default_min_time, double min_time, std::vecto
   lines.push_back({"d. torus 10^6 tris: CGAL slice / cw slice (both structures reused)", ">= 1x",
                    time_ratio("torus/cgal/slice", "torus/cw/slice"), at_least_1});
   lines.push_back({"d. (CGAL construct+slice / cw SliceModel construct+slice)", ">= 1x",
-                   time_ratio("torus/cgal/construct+slice", "torus/cw/construct+slice"), at_least_1});
+                   time_ratio("torus/cgal/construct+slice", "torus/cw/construct+slice"),
+                   at_least_1});
   lines.push_back({"d. (CGAL slice / cw slice of the torus without its solid)", "",
                    time_ratio("torus/cgal/slice", "torus/cw-nosolid/slice"), nullptr});
 }

@@ -105,8 +105,8 @@ std::vector<std::shared_ptr<Model>> register_cases(bool default_min_time) {
     auto m = std::make_shared<Model>();
     m->name = spec;
     m->complex = cw4d::load_model(spec);
-    m->compiled = std::make_unique<cw4d::SliceModel>(m->complex,
-                                                     cw4d::SliceModelOptions::unclustered());
+    m->compiled =
+        std::make_unique<cw4d::SliceModel>(m->complex, cw4d::SliceModelOptions::unclustered());
     m->mesh = cw4d::tetrahedralize(m->complex);
     m->planes = generic_planes(m->complex);
     cw4d::Slicer slicer;

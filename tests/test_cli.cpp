@@ -20,10 +20,10 @@
 #include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/export/svg.hpp"
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
-#include "cw4d/export/svg.hpp"
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vectors.hpp"
@@ -382,12 +382,12 @@ TEST_CASE("usage errors exit 1 and write nothing", "[cli]") {
        "x.stl"},
       {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "0", "--to", "0", "--layers", "4",
        "-o", "x.glb"},
-      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-1", "--to", "1", "--layers",
-       "0", "-o", "x.glb"},
-      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "nan", "--to", "1", "--layers",
-       "3", "-o", "x.glb"},
-      {"sweep", "cube:3", "--normal", "0,0,1", "--from", "-1", "--to", "1", "--layers", "3",
+      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "-1", "--to", "1", "--layers", "0",
        "-o", "x.glb"},
+      {"sweep", "tesseract", "--normal", "0,0,0,1", "--from", "nan", "--to", "1", "--layers", "3",
+       "-o", "x.glb"},
+      {"sweep", "cube:3", "--normal", "0,0,1", "--from", "-1", "--to", "1", "--layers", "3", "-o",
+       "x.glb"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--triangulate", "-o",
        "x.4off"},
       {"slice", "tesseract", "--normal", "0,0,0,1", "--offset", "0", "--rotate", "xq:10", "-o",
@@ -473,8 +473,8 @@ TEST_CASE("slice of a 3D model writes its polygon outline as OBJ line elements",
   INFO(r.err);
   REQUIRE(r.code == 0);
   const std::string text = read_text(dir / "outline.obj");
-  const cw4d::Section expect = cw4d::section(cw4d::load_model("cube:3"),
-                                             cw4d::Hyperplane::from(vec({0, 1, 1}), 0.5));
+  const cw4d::Section expect =
+      cw4d::section(cw4d::load_model("cube:3"), cw4d::Hyperplane::from(vec({0, 1, 1}), 0.5));
   std::size_t v = 0, l = 0, f = 0;
   std::istringstream in(text);
   std::string line;
@@ -502,7 +502,8 @@ TEST_CASE("slice to .svg draws exactly the faces that face the viewer", "[cli]")
        at = text.find("<polygon", at + 1))
     ++polygons;
   const cw4d::Complex model = cw4d::load_model("tesseract");
-  const cw4d::AffineTransform xf = cw4d::AffineTransform::rotation(4, 0, 1, 15 * std::numbers::pi / 180);
+  const cw4d::AffineTransform xf =
+      cw4d::AffineTransform::rotation(4, 0, 1, 15 * std::numbers::pi / 180);
   const cw4d::Section s = cw4d::section(model, cw4d::Hyperplane::from(vec({1, 1, 1, 1}), 0.5), xf);
   std::size_t front = 0;
   const Eigen::Vector3d view = cw4d::SvgOptions{}.view_from.normalized();
@@ -511,7 +512,8 @@ TEST_CASE("slice to .svg draws exactly the faces that face the viewer", "[cli]")
   CHECK(front > 0);
   CHECK(polygons == front);
   // A 3D model has no 3D section to draw.
-  const Result bad = run(dir, {"slice", "cube:3", "--normal", "0,0,1", "--offset", "0", "-o", "x.svg"});
+  const Result bad =
+      run(dir, {"slice", "cube:3", "--normal", "0,0,1", "--offset", "0", "-o", "x.svg"});
   CHECK(bad.code == 1);
   CHECK(!dir.exists("x.svg"));
 }
@@ -551,8 +553,8 @@ TEST_CASE("slice --scene writes the objects as one mesh with an MTL of their col
   fs::create_directories(dir / "scenes/models");
   dir.write("scenes/s.json", kCliScene);
   cw4d::write_off_file((dir / "scenes/models/simplex.4off").string(), cw4d::make_simplex(4));
-  const Result r = run(dir, {"slice", "--scene", "scenes/s.json", "--normal", "0,0,0,1",
-                             "--offset", "0.1", "-o", "out/s.obj"});
+  const Result r = run(dir, {"slice", "--scene", "scenes/s.json", "--normal", "0,0,0,1", "--offset",
+                             "0.1", "-o", "out/s.obj"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(r.err.empty());
@@ -587,11 +589,10 @@ TEST_CASE("slice --scene writes the objects as one mesh with an MTL of their col
     REQUIRE(materials.count(current));
     const std::string want = c == cw4d::Rgba{0, 0, 1, 0.5f}   ? "Kd 0 0 1;d 0.5;"
                              : c == cw4d::Rgba{0, 1, 0, 1.0f} ? "Kd 0 1 0;d 1;"
-                                                               : "Kd 1 0.5019608 0;d 0.5;";
+                                                              : "Kd 1 0.5019608 0;d 0.5;";
     CHECK(materials.at(current) == want);
     if (expect.object_of_face[f] == 1) CHECK(want == "Kd 0 1 0;d 1;");
-    if (expect.source[2][f] == 6 && expect.object_of_face[f] == 0)
-      CHECK(want == "Kd 0 0 1;d 0.5;");
+    if (expect.source[2][f] == 6 && expect.object_of_face[f] == 0) CHECK(want == "Kd 0 0 1;d 0.5;");
     used.insert(current);
     ++f;
   }
@@ -617,8 +618,8 @@ TEST_CASE("a bad scene exits 2 naming file:line and writes nothing", "[cli]") {
     INFO(text);
     dir.write("bad.json", text);
     for (const char* out : {"x.obj", "x.svg", "x.4off"}) {
-      const Result r = run(dir, {"slice", "--scene", "bad.json", "--normal", "0,0,0,1",
-                                 "--offset", "0", "-o", out});
+      const Result r = run(
+          dir, {"slice", "--scene", "bad.json", "--normal", "0,0,0,1", "--offset", "0", "-o", out});
       CHECK(r.code == 2);
       check_one_error_line(r);
       CHECK(r.err.find("bad.json:" + std::to_string(line) + ":") != std::string::npos);
@@ -656,8 +657,8 @@ TEST_CASE("slice rejects a scene together with MODEL, --rotate or --translate", 
     CHECK(!dir.exists("x.mtl"));
   }
   // The scene's plane misses everything: exit 5, as for a model.
-  const Result empty = run(dir, {"slice", "--scene", "s.json", "--normal", "0,0,0,1", "--offset",
-                                 "7", "-o", "x.obj"});
+  const Result empty = run(
+      dir, {"slice", "--scene", "s.json", "--normal", "0,0,0,1", "--offset", "7", "-o", "x.obj"});
   CHECK(empty.code == 5);
   CHECK(!dir.exists("x.obj"));
 }

@@ -66,7 +66,8 @@ double projected_area(const Section& s, const Eigen::Vector3d& v) {
     const auto cyc = c.face_cycle(f);
     Eigen::Vector3d area = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < cyc.size(); ++i)
-      area += 0.5 * Eigen::Vector3d(c.position(cyc[i])).cross(Eigen::Vector3d(c.position(cyc[(i + 1) % cyc.size()])));
+      area += 0.5 * Eigen::Vector3d(c.position(cyc[i]))
+                        .cross(Eigen::Vector3d(c.position(cyc[(i + 1) % cyc.size()])));
     sum += std::abs(area.dot(v));
   }
   return 0.5 * sum;
@@ -83,7 +84,8 @@ bool same_pixels(const Image& a, const Image& b) {
 glm::ivec2 pixel_of(const Camera& cam, glm::vec3 p, int w, int h) {
   const View v = cam.view(static_cast<float>(w) / h);
   const glm::vec4 c = v.clip_from_world * glm::vec4(p, 1.0f);
-  return {static_cast<int>((c.x / c.w * 0.5f + 0.5f) * w), static_cast<int>((0.5f - c.y / c.w * 0.5f) * h)};
+  return {static_cast<int>((c.x / c.w * 0.5f + 0.5f) * w),
+          static_cast<int>((0.5f - c.y / c.w * 0.5f) * h)};
 }
 
 }  // namespace
@@ -91,7 +93,8 @@ glm::ivec2 pixel_of(const Camera& cam, glm::vec3 p, int w, int h) {
 TEST_CASE("a lit cube section covers the analytic silhouette area (orthographic)", "[render]") {
   const Complex tesseract = make_cube(4);
   const Section cube = section(tesseract, Hyperplane::from(vec({0, 0, 0, 1}), 0.0));
-  for (glm::vec3 from : {glm::vec3(2.0f, 1.3f, 1.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(-1.0f, 0.4f, -2.5f)}) {
+  for (glm::vec3 from :
+       {glm::vec3(2.0f, 1.3f, 1.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(-1.0f, 0.4f, -2.5f)}) {
     const SectionViewOptions o = ortho_options(from);
     const Camera cam = section_camera(cube, o);
     const Image img = render_section(cube, o, cam, nullptr, false);
@@ -132,7 +135,8 @@ TEST_CASE("silhouettes of tilted sections match Cauchy's projection formula", "[
       for (int i = 0; i < 4; ++i) n(i) = g(rng);
       const Section s = section(m, Hyperplane::from(n, 0.1 * g(rng)));
       REQUIRE_FALSE(s.empty());
-      const glm::vec3 from(static_cast<float>(g(rng)), static_cast<float>(g(rng)), static_cast<float>(g(rng)));
+      const glm::vec3 from(static_cast<float>(g(rng)), static_cast<float>(g(rng)),
+                           static_cast<float>(g(rng)));
       const SectionViewOptions o = ortho_options(from, 300, 300);
       const Camera cam = section_camera(s, o);
       const Image img = render_section(s, o, cam, nullptr, false);
@@ -162,7 +166,8 @@ TEST_CASE("the nearer of two overlapping objects wins, whatever the drawing orde
       const Image img = render_section(s, o, cam);
       // Covered by both (blue in front): blue; covered by red only: red.
       const glm::ivec2 both = pixel_of(cam, {0.4f, 0.4f, 2.5f}, o.raster.width, o.raster.height);
-      const glm::ivec2 red_only = pixel_of(cam, {-0.6f, -0.6f, 1.0f}, o.raster.width, o.raster.height);
+      const glm::ivec2 red_only =
+          pixel_of(cam, {-0.6f, -0.6f, 1.0f}, o.raster.width, o.raster.height);
       const glm::vec4 pb = img.at(both.x, both.y), pr = img.at(red_only.x, red_only.y);
       CAPTURE(perspective, reversed, pb.r, pb.b, pr.r, pr.b);
       CHECK(pb.b > 4 * pb.r);
@@ -193,7 +198,8 @@ TEST_CASE("top-left rule: triangles sharing edges cover every sample exactly onc
       fan.vertices.push_back({{0.8f * std::cos(a), 0.8f * std::sin(a), 0.0f}, {}, color});
     }
     for (int i = 0; i < k; ++i)
-      fan.triangles.push_back({0, static_cast<std::uint32_t>(1 + i), static_cast<std::uint32_t>(1 + (i + 1) % k)});
+      fan.triangles.push_back(
+          {0, static_cast<std::uint32_t>(1 + i), static_cast<std::uint32_t>(1 + (i + 1) % k)});
     DrawOptions d;
     d.shading = Shading::Unlit;
     d.blend = Blend::Over;
@@ -234,7 +240,8 @@ TEST_CASE("near-plane clipping: a ground plane through the eye covers the lower 
     ground.vertices.push_back({{4e4f * std::cos(a), -1.0f, 4e4f * std::sin(a)}, {}, c});
   }
   for (int i = 0; i < k; ++i)
-    ground.triangles.push_back({0, static_cast<std::uint32_t>(1 + (i + 1) % k), static_cast<std::uint32_t>(1 + i)});
+    ground.triangles.push_back(
+        {0, static_cast<std::uint32_t>(1 + (i + 1) % k), static_cast<std::uint32_t>(1 + i)});
   DrawOptions d;
   d.shading = Shading::Unlit;
   d.blend = Blend::Over;
@@ -269,7 +276,8 @@ TEST_CASE("pictures are identical for every thread count", "[render]") {
   for (std::size_t i = 1; i < pics.size(); ++i) CHECK(same_pixels(pics[0], pics[i]));
 
   Scene scene;
-  scene.objects.push_back(object(std::make_shared<const Complex>(m), AffineTransform(4), Rgba{0.9f, 0.6f, 0.2f, 0.7f}));
+  scene.objects.push_back(
+      object(std::make_shared<const Complex>(m), AffineTransform(4), Rgba{0.9f, 0.6f, 0.2f, 0.7f}));
   CloudOptions co;
   co.raster.width = 160;
   co.raster.height = 120;
@@ -288,7 +296,8 @@ TEST_CASE("pictures are identical for every thread count", "[render]") {
   CHECK(same_pixels(wires[0], wires[1]));
 }
 
-TEST_CASE("occlusion culling removes exactly the analytic shadow of a tesseract", "[render][occlusion]") {
+TEST_CASE("occlusion culling removes exactly the analytic shadow of a tesseract",
+          "[render][occlusion]") {
   const ConvexOccluder occ = ConvexOccluder::from(make_cube(4));
   const double margin = 1e-9;
   SECTION("eye outside: an edge behind the tesseract loses its middle") {
@@ -331,7 +340,8 @@ TEST_CASE("occlusion culling removes exactly the analytic shadow of a tesseract"
   }
   SECTION("the tesseract's own front edges stay, its back edges go") {
     Scene scene;
-    scene.objects.push_back(object(std::make_shared<const Complex>(make_cube(4)), AffineTransform(4), {}));
+    scene.objects.push_back(
+        object(std::make_shared<const Complex>(make_cube(4)), AffineTransform(4), {}));
     const Camera4 cam = Camera4::look_at(vec({0, 0, 0, -5}), vec({0, 0, 0, 0}), 60.0);
     const auto vis = visible_edges(scene, cam);
     // Seen along w, the front cell w = -1 hides everything behind it: exactly its 12 edges
@@ -347,7 +357,8 @@ TEST_CASE("occlusion culling removes exactly the analytic shadow of a tesseract"
   }
 }
 
-TEST_CASE("occlusion culling agrees with ray casting for random eyes and edges", "[render][occlusion]") {
+TEST_CASE("occlusion culling agrees with ray casting for random eyes and edges",
+          "[render][occlusion]") {
   std::mt19937 rng(4);
   std::normal_distribution<double> g;
   const Complex m = load_model("24-cell");
@@ -359,12 +370,19 @@ TEST_CASE("occlusion culling agrees with ray casting for random eyes and edges",
     double slack = 1e300;  // how deep the ray goes inside, for ambiguity
     for (const HalfSpace& h : occ.facets()) {
       const double fa = h.value(eye), fb = h.value(x);
-      if (fa > 0 && fb > 0) { empty = true; slack = std::min(slack, std::min(fa, fb)); break; }
-      if (fa > 0) t0 = std::max(t0, fa / (fa - fb));
-      else if (fb > 0) t1 = std::min(t1, fa / (fa - fb));
+      if (fa > 0 && fb > 0) {
+        empty = true;
+        slack = std::min(slack, std::min(fa, fb));
+        break;
+      }
+      if (fa > 0)
+        t0 = std::max(t0, fa / (fa - fb));
+      else if (fb > 0)
+        t1 = std::min(t1, fa / (fa - fb));
     }
     const bool inside_eye = [&] {
-      for (const HalfSpace& h : occ.facets()) if (h.value(eye) > 0) return false;
+      for (const HalfSpace& h : occ.facets())
+        if (h.value(eye) > 0) return false;
       return true;
     }();
     bool result;
@@ -420,18 +438,22 @@ TEST_CASE("the 4D frustum keeps exactly the part of an edge in view", "[render][
 TEST_CASE("stereographic edges are circular arcs", "[render]") {
   StereographicOptions o;
   // Some rotation so that no edge passes through the pole exactly.
-  const AffineTransform rot = AffineTransform::rotation(4, 0, 3, 0.3) * AffineTransform::rotation(4, 1, 2, 0.7);
+  const AffineTransform rot =
+      AffineTransform::rotation(4, 0, 3, 0.3) * AffineTransform::rotation(4, 1, 2, 0.7);
   o.rotation = rot.linear();
   const auto curves = stereographic_curves(load_model("24-cell"), o);
   REQUIRE(curves.size() >= 96);
   for (const auto& c : curves) {
     REQUIRE(c.points.size() >= 3);
     // The circle through the first, middle and last points: every point lies on it.
-    const Eigen::Vector3d p0 = c.points.front(), p1 = c.points[c.points.size() / 2], p2 = c.points.back();
+    const Eigen::Vector3d p0 = c.points.front(), p1 = c.points[c.points.size() / 2],
+                          p2 = c.points.back();
     const Eigen::Vector3d u = p1 - p0, v = p2 - p0, n = u.cross(v);
-    if (n.norm() < 1e-9 * u.norm() * v.norm()) continue;  // a straight line through the pole's image
+    if (n.norm() < 1e-9 * u.norm() * v.norm())
+      continue;  // a straight line through the pole's image
     const Eigen::Vector3d centre =
-        p0 + (u.squaredNorm() * v.cross(n) + v.squaredNorm() * n.cross(u)) / (2.0 * n.squaredNorm());
+        p0 +
+        (u.squaredNorm() * v.cross(n) + v.squaredNorm() * n.cross(u)) / (2.0 * n.squaredNorm());
     const double radius = (p0 - centre).norm();
     for (std::size_t i = 0; i < c.points.size(); ++i) {
       CHECK(std::abs((c.points[i] - centre).norm() - radius) < 1e-9 * (1 + radius));
@@ -484,7 +506,8 @@ TEST_CASE("bad render input is rejected with typed errors", "[render]") {
   CHECK_THROWS_AS(section_mesh(s3), InputError);
   CHECK_THROWS_AS(ConvexOccluder::from(Complex(4)), InputError);
   Scene scene;
-  scene.objects.push_back(object(std::make_shared<const Complex>(make_cube(4)), AffineTransform(4), {}));
+  scene.objects.push_back(
+      object(std::make_shared<const Complex>(make_cube(4)), AffineTransform(4), {}));
   CloudOptions co;
   co.layers = 0;
   CHECK_THROWS_AS(render_voxel_cloud(scene, vec({0, 0, 0, 1}), co), InputError);
@@ -517,8 +540,9 @@ TEST_CASE("a polytope behind another is hidden, one beside it is not", "[render]
   Scene scene;
   scene.objects.push_back(object(tesseract, AffineTransform(4), {}));
   // Half size, 4 units behind the first along w: inside its shadow cone from w = -6.
-  scene.objects.push_back(object(
-      tesseract, AffineTransform::translation(vec({0, 0, 0, 4})) * AffineTransform::scale(4, 0.5), {}));
+  scene.objects.push_back(
+      object(tesseract,
+             AffineTransform::translation(vec({0, 0, 0, 4})) * AffineTransform::scale(4, 0.5), {}));
   // Beside it: nothing in between.
   scene.objects.push_back(object(tesseract, AffineTransform::translation(vec({5, 0, 0, 0})), {}));
   const Camera4 cam = Camera4::look_at(vec({0, 0, 0, -6}), vec({0, 0, 0, 0}), 120.0);

@@ -46,14 +46,19 @@ TEST_CASE("cw4d render writes each kind of picture", "[render][cli]") {
       {{"24-cell", "--normal", "1,1,1,1", "--offset", "0.3", "--edges"}, 200, 150, 0.2},
       {{"--scene", kScene, "--normal", "0,0,0,1", "--offset", "0.1"}, 200, 150, 0.05},
       {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--layers", "12"}, 160, 120, 0.1},
-      {{"--scene", kScene, "--mode", "cloud", "--normal", "0,0,0,1", "--layers", "8"}, 160, 120, 0.05},
+      {{"--scene", kScene, "--mode", "cloud", "--normal", "0,0,0,1", "--layers", "8"},
+       160,
+       120,
+       0.05},
       {{"120-cell", "--mode", "wireframe"}, 200, 150, 0.05},
       {{"5-cell", "--mode", "wireframe", "--no-occlusion", "--eye4", "1,0,0,0"}, 200, 150, 0.01},
       {{"tesseract", "--mode", "stereographic"}, 200, 150, 0.03},
       {{"24-cell", "--mode", "stereographic", "--lines", "--rotate", "xw:10"}, 200, 150, 0.01},
       {{"24-cell", "--mode", "stereo", "--normal", "0,0,0,1"}, 400, 150, 0.1},
       {{"tesseract", "--mode", "sheet", "--normal", "1,1,0,1", "--layers", "6", "--columns", "3"},
-       3 * 100 + 4 * 4, 2 * 100 + 3 * 4, 0.1},
+       3 * 100 + 4 * 4,
+       2 * 100 + 3 * 4,
+       0.1},
   };
   int k = 0;
   for (const auto& c : cases) {
@@ -63,8 +68,8 @@ TEST_CASE("cw4d render writes each kind of picture", "[render][cli]") {
     const bool sheet = c.args.size() > 2 && c.args[2] == "sheet";
     const bool stereo = c.args.size() > 2 && c.args[2] == "stereo";
     const int w = sheet ? 100 : (stereo ? c.width / 2 : c.width), h = sheet ? 100 : c.height;
-    args.insert(args.end(), {"--size", std::to_string(w) + "x" + std::to_string(h), "--samples", "2",
-                             "-o", out});
+    args.insert(args.end(), {"--size", std::to_string(w) + "x" + std::to_string(h), "--samples",
+                             "2", "-o", out});
     const Result r = run(dir, args);
     CAPTURE(c.args, r.err);
     REQUIRE(r.code == 0);
@@ -77,8 +82,8 @@ TEST_CASE("cw4d render writes each kind of picture", "[render][cli]") {
 
 TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
   TempDir dir;
-  const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1", "--layers",
-                             "5", "--size", "64x48", "-o", "anim/f.png"});
+  const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1",
+                             "--layers", "5", "--size", "64x48", "-o", "anim/f.png"});
   INFO(r.err);
   REQUIRE(r.code == 0);
   for (int i = 0; i < 5; ++i) {
@@ -95,11 +100,14 @@ TEST_CASE("cw4d render rejects bad requests without writing", "[render][cli]") {
   // stereographic mode, a plane that misses the model.
   CHECK(run(dir, {"render", "tesseract", "-o", "a.png"}).code == 1);
   CHECK(run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "-o", "a.svg"}).code == 1);
-  CHECK(run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--size", "0x5", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--size", "0x5", "-o", "a.png"})
+            .code == 1);
   CHECK(run(dir, {"render", "tesseract", "--mode", "raytrace", "-o", "a.png"}).code == 1);
-  CHECK(run(dir, {"render", "--scene", kScene, "--mode", "stereographic", "-o", "a.png"}).code == 1);
+  CHECK(run(dir, {"render", "--scene", kScene, "--mode", "stereographic", "-o", "a.png"}).code ==
+        1);
   CHECK(run(dir, {"render", "cube:3", "--normal", "0,0,1", "-o", "a.png"}).code == 1);
-  const Result miss = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", "5", "-o", "a.png"});
+  const Result miss =
+      run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", "5", "-o", "a.png"});
   CHECK(miss.code == 5);
   CHECK(miss.err.rfind("cw4d: error: ", 0) == 0);
   CHECK(dir.entries() == 0);

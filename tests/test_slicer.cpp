@@ -1,8 +1,8 @@
 // The slicer's fast path against the general layered cut (a second algorithm), and the speed
 // features against the plain call: sweeps, threads, culling and the topology cache must give
 // exactly (bit for bit) the buffers of Slicer::slice with a fresh plane.
-#include <catch2/catch.hpp>
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <random>
@@ -65,7 +65,8 @@ void require_same_section(const Section& fast, const Section& general, double sc
     REQUIRE(fast.vertex_source[i].element == general.vertex_source[i].element);
     REQUIRE(fast.vertex_source[i].rank == general.vertex_source[i].rank);
   }
-  if (a.count(0) > 0) REQUIRE((a.positions() - b.positions()).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+  if (a.count(0) > 0)
+    REQUIRE((a.positions() - b.positions()).cwiseAbs().maxCoeff() <= 1e-12 * scale);
   REQUIRE(a.has_facet_normals() == b.has_facet_normals());
   if (a.has_facet_normals() && a.facet_normals().cols() > 0)
     REQUIRE((a.facet_normals() - b.facet_normals()).cwiseAbs().maxCoeff() <= 1e-9);
@@ -118,8 +119,8 @@ Hyperplane random_plane(std::mt19937& rng, int n, double reach) {
 }
 
 const std::vector<std::string>& models_4d() {
-  static const std::vector<std::string> specs = {"tesseract", "24-cell", "120-cell", "600-cell",
-                                                 "5-cell",    "duoprism:5,7", "16-cell"};
+  static const std::vector<std::string> specs = {
+      "tesseract", "24-cell", "120-cell", "600-cell", "5-cell", "duoprism:5,7", "16-cell"};
   return specs;
 }
 
@@ -178,7 +179,8 @@ TEST_CASE("a polyhedron with its solid cuts into closed polygons", "[slicer]") {
   Complex cube = load_model("cube:3");
   std::vector<std::uint32_t> all(cube.count(2));
   for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-  if (cube.top_rank() < 3) cube.boundary_mut(3).add_row(all, std::vector<std::int8_t>(all.size(), 1));
+  if (cube.top_rank() < 3)
+    cube.boundary_mut(3).add_row(all, std::vector<std::int8_t>(all.size(), 1));
   const SliceModel compiled(cube);
   REQUIRE(compiled.fast());
   Slicer slicer;
@@ -186,7 +188,8 @@ TEST_CASE("a polyhedron with its solid cuts into closed polygons", "[slicer]") {
   for (int i = 0; i < 50; ++i) {
     const Hyperplane plane = random_plane(rng, 3, 1.7);
     slicer.slice(compiled, plane, out);
-    require_same_section(to_section(out), section_general(cube, plane, AffineTransform::identity(3)), 10.0);
+    require_same_section(to_section(out),
+                         section_general(cube, plane, AffineTransform::identity(3)), 10.0);
   }
 }
 
@@ -287,7 +290,8 @@ TEST_CASE("cluster culling gives the unculled buffers", "[slicer][cull]") {
     // A sweep of the clustered model: its layers are the (culled) slices, bit for bit.
     const Eigen::VectorXd n = test::random_unit(rng, 4);
     std::vector<double> offsets;
-    for (int i = 0; i < 24; ++i) offsets.push_back(-1.2 * clustered.radius() + 0.1 * i * clustered.radius());
+    for (int i = 0; i < 24; ++i)
+      offsets.push_back(-1.2 * clustered.radius() + 0.1 * i * clustered.radius());
     std::vector<SliceBuffers> layers;
     slicer.sweep(clustered, n, offsets, AffineTransform::identity(4), layers, 2);
     for (std::size_t k = 0; k < offsets.size(); ++k) {
@@ -318,7 +322,7 @@ TEST_CASE("the topology cache reuses connectivity only when it is exact", "[slic
       fresh.slice(compiled, plane, xf, ref);
       require_identical(anim, ref);
     }
-    CHECK(cached.cached_slices() > 60);  // most frames keep their sides
+    CHECK(cached.cached_slices() > 60);   // most frames keep their sides
     CHECK(cached.cached_slices() < 120);  // the jumps do not
   }
 }
@@ -365,7 +369,8 @@ TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]
   CHECK(touched < 10 * scene.objects.size() / 2);  // the culling did skip objects
 }
 
-TEST_CASE("scenes with the topology cache stay exact across culled frames", "[slicer][scene][cache]") {
+TEST_CASE("scenes with the topology cache stay exact across culled frames",
+          "[slicer][scene][cache]") {
   // Regression: a culled frame emptied an object's buffers but left its cache valid, so the
   // next frame reused connectivity that was no longer there.
   Scene scene;

@@ -33,14 +33,30 @@ void* operator new[](std::size_t size) {
   if (void* p = counted(size)) return p;
   throw std::bad_alloc();
 }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted(size); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  return counted(size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return counted(size);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
 
 using namespace cw4d;
 
@@ -52,9 +68,9 @@ TEST_CASE("slicing allocates nothing after warm-up", "[slicer][alloc]") {
     std::mt19937 rng(8107);
     std::vector<Hyperplane> planes;
     for (int i = 0; i < 200; ++i)
-      planes.push_back(Hyperplane::from(test::random_unit(rng, 4),
-                                        std::uniform_real_distribution<double>(-1, 1)(rng) *
-                                            compiled.radius()));
+      planes.push_back(
+          Hyperplane::from(test::random_unit(rng, 4),
+                           std::uniform_real_distribution<double>(-1, 1)(rng) * compiled.radius()));
     const AffineTransform xf = AffineTransform::rotation(4, 0, 3, 0.3);
     Slicer slicer;
     SliceBuffers out;

@@ -65,7 +65,8 @@ void run_bench(const BenchSettings& s) {
   if (model.ambient_dim() != 4)
     throw InputError("bench needs a 4D model; '" + s.model + "' lives in R^" +
                      std::to_string(model.ambient_dim()));
-  const unsigned threads = s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned threads =
+      s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
   const SliceModel compiled(model, SliceModelOptions::unclustered());
   if (!compiled.fast())
     std::cout << "note: '" << s.model << "' takes the general path (see slicer.hpp)\n";
@@ -91,14 +92,19 @@ void run_bench(const BenchSettings& s) {
   std::size_t next = 0;
   auto hot = [&] { slicer.slice(compiled, planes[next++ % planes.size()], out); };
   auto tet = [&] { benchmark_sink(slice_tets(mesh, planes[next++ % planes.size()]).tet.size()); };
-  auto plain = [&] { benchmark_sink(section(model, planes[next++ % planes.size()]).complex.count(0)); };
+  auto plain = [&] {
+    benchmark_sink(section(model, planes[next++ % planes.size()]).complex.count(0));
+  };
   const auto t1 = per_call({hot, tet, plain}, s.seconds);
   const double n = static_cast<double>(planes.size());
   std::printf("%s, %d layers, one thread unless stated; times are medians of alternating rounds\n",
               s.model.c_str(), s.layers);
-  std::printf("  slice, hot path (Slicer)      %9.2f us   %7.1f triangles\n", t1[0] * 1e6, cw_tris / n);
-  std::printf("  slice, tetrahedral path       %9.2f us   %7.1f triangles   tet/CW time %.2fx, triangles %.2fx\n",
-              t1[1] * 1e6, tet_tris / n, t1[1] / t1[0], tet_tris / cw_tris);
+  std::printf("  slice, hot path (Slicer)      %9.2f us   %7.1f triangles\n", t1[0] * 1e6,
+              cw_tris / n);
+  std::printf(
+      "  slice, tetrahedral path       %9.2f us   %7.1f triangles   tet/CW time %.2fx, triangles "
+      "%.2fx\n",
+      t1[1] * 1e6, tet_tris / n, t1[1] / t1[0], tet_tris / cw_tris);
   std::printf("  slice, section() (allocates)  %9.2f us                     section()/hot %.2fx\n",
               t1[2] * 1e6, t1[2] / t1[0]);
   // A sweep against the same layers one slice at a time, and on every core.

@@ -32,8 +32,8 @@ struct SectionOutput {
 
 /// Writes `sec` (cut from `input`) to `path`, through temporary files and renames.
 /// \return the files written, e.g. {"a.obj", "a.mtl"}.
-std::vector<std::string> write_section(const std::string& path, const Section& sec, const Input& input,
-                          const SectionOutput& out);
+std::vector<std::string> write_section(const std::string& path, const Section& sec,
+                                       const Input& input, const SectionOutput& out);
 
 /// "a.obj and a.mtl"
 std::string describe_files(const std::vector<std::string>& files);

@@ -66,11 +66,20 @@ AffineTransform operator*(const AffineTransform& a, const AffineTransform& b) {
 std::pair<int, int> parse_rotation_plane(std::string_view name) {
   auto axis = [&](char ch) -> int {
     switch (ch) {
-      case 'x': case 'X': return 0;
-      case 'y': case 'Y': return 1;
-      case 'z': case 'Z': return 2;
-      case 'w': case 'W': return 3;
-      default: return -1;
+      case 'x':
+      case 'X':
+        return 0;
+      case 'y':
+      case 'Y':
+        return 1;
+      case 'z':
+      case 'Z':
+        return 2;
+      case 'w':
+      case 'W':
+        return 3;
+      default:
+        return -1;
     }
   };
   if (name.size() == 2) {

@@ -20,12 +20,24 @@ Eigen::Vector3d cell_color(std::uint32_t cell) {
   const double x = 1.0 - std::abs(std::fmod(h, 2.0) - 1.0);
   Eigen::Vector3d rgb;
   switch (static_cast<int>(h)) {
-    case 0: rgb << 1, x, 0; break;
-    case 1: rgb << x, 1, 0; break;
-    case 2: rgb << 0, 1, x; break;
-    case 3: rgb << 0, x, 1; break;
-    case 4: rgb << x, 0, 1; break;
-    default: rgb << 1, 0, x; break;
+    case 0:
+      rgb << 1, x, 0;
+      break;
+    case 1:
+      rgb << x, 1, 0;
+      break;
+    case 2:
+      rgb << 0, 1, x;
+      break;
+    case 3:
+      rgb << 0, x, 1;
+      break;
+    case 4:
+      rgb << x, 0, 1;
+      break;
+    default:
+      rgb << 1, 0, x;
+      break;
   }
   return 0.35 * Eigen::Vector3d::Ones() + 0.6 * rgb;  // pastel, so shading stays visible
 }
@@ -62,15 +74,16 @@ std::string svg_text(const Section& section, const SvgOptions& opt) {
   std::vector<Poly> polys;
   const std::size_t nf = c.top_rank() >= 2 ? c.count(2) : 0;
   for (std::uint32_t f = 0; f < nf; ++f) {
-    const Eigen::Vector3d n = c.has_facet_normals() ? Eigen::Vector3d(c.facet_normals().col(f))
-                                                    : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d n =
+        c.has_facet_normals() ? Eigen::Vector3d(c.facet_normals().col(f)) : Eigen::Vector3d::Zero();
     if (n.dot(back) <= 0.0) continue;  // back face of a closed outward surface
     double depth = 0.0;
     const auto cyc = c.face_cycle(f);
     for (auto v : cyc) depth += project(v).z();
     polys.push_back({depth / static_cast<double>(cyc.size()), f});
   }
-  std::sort(polys.begin(), polys.end(), [](const Poly& a, const Poly& b) { return a.depth < b.depth; });
+  std::sort(polys.begin(), polys.end(),
+            [](const Poly& a, const Poly& b) { return a.depth < b.depth; });
   std::string out;
   char buf[160];
   std::snprintf(buf, sizeof buf,
@@ -105,8 +118,7 @@ std::string svg_text(const Section& section, const SvgOptions& opt) {
       std::snprintf(buf, sizeof buf, " fill-opacity=\"%.3f\"", opacity);
       out += buf;
     }
-    out += opt.edges ? " stroke=\"#202020\" stroke-width=\"1.2\" stroke-linejoin=\"round\""
-                     : "";
+    out += opt.edges ? " stroke=\"#202020\" stroke-width=\"1.2\" stroke-linejoin=\"round\"" : "";
     out += " points=\"";
     for (auto v : c.face_cycle(poly.face)) {
       const Eigen::Vector3d q = project(v);

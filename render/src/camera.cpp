@@ -18,11 +18,17 @@ glm::vec3 View::to_viewer(const glm::vec3& p) const {
   return len > 0.0f ? d / len : -forward;
 }
 
-glm::vec3 Camera::forward() const { return glm::normalize(target - eye); }
+glm::vec3 Camera::forward() const {
+  return glm::normalize(target - eye);
+}
 
-glm::vec3 Camera::right() const { return glm::normalize(glm::cross(forward(), up)); }
+glm::vec3 Camera::right() const {
+  return glm::normalize(glm::cross(forward(), up));
+}
 
-glm::mat4 Camera::view_matrix() const { return glm::lookAt(eye, target, up); }
+glm::mat4 Camera::view_matrix() const {
+  return glm::lookAt(eye, target, up);
+}
 
 glm::mat4 Camera::projection_matrix(float aspect) const {
   if (projection == Projection::Orthographic) {
@@ -37,7 +43,8 @@ View Camera::view(float aspect) const {
   if (!(glm::length(d) > 0.0f)) throw InputError("camera: the eye and the target coincide");
   if (!(glm::length(glm::cross(glm::normalize(d), glm::normalize(up))) > tol::up_parallel_sin))
     throw InputError("camera: the up vector is parallel to the viewing direction");
-  if (!(aspect > 0.0f) || !std::isfinite(aspect)) throw InputError("camera: aspect must be positive");
+  if (!(aspect > 0.0f) || !std::isfinite(aspect))
+    throw InputError("camera: aspect must be positive");
   if (!(far_plane > near_plane) || (projection == Projection::Perspective && !(near_plane > 0.0f)))
     throw InputError("camera: need 0 < near < far");
   if (projection == Projection::Perspective && !(fov_y_degrees > 0.0f && fov_y_degrees < 180.0f))

@@ -20,7 +20,8 @@ std::uint8_t linear_to_srgb8(float c) {
 }
 
 glm::vec4 to_linear(const Rgba& c) {
-  return {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b), std::clamp(c.a, 0.0f, 1.0f)};
+  return {srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b),
+          std::clamp(c.a, 0.0f, 1.0f)};
 }
 
 glm::vec3 to_linear(const glm::vec3& c) {
@@ -32,12 +33,24 @@ glm::vec3 palette_color(std::uint32_t id) {
   const float x = 1.0f - std::abs(std::fmod(h, 2.0f) - 1.0f);
   glm::vec3 rgb;
   switch (static_cast<int>(h)) {
-    case 0: rgb = {1, x, 0}; break;
-    case 1: rgb = {x, 1, 0}; break;
-    case 2: rgb = {0, 1, x}; break;
-    case 3: rgb = {0, x, 1}; break;
-    case 4: rgb = {x, 0, 1}; break;
-    default: rgb = {1, 0, x}; break;
+    case 0:
+      rgb = {1, x, 0};
+      break;
+    case 1:
+      rgb = {x, 1, 0};
+      break;
+    case 2:
+      rgb = {0, 1, x};
+      break;
+    case 3:
+      rgb = {0, x, 1};
+      break;
+    case 4:
+      rgb = {x, 0, 1};
+      break;
+    default:
+      rgb = {1, 0, x};
+      break;
   }
   return to_linear(glm::vec3(0.3f) + 0.65f * rgb);  // pastel (sRGB), so shading stays visible
 }

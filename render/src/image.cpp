@@ -95,9 +95,9 @@ std::string encode_png(const Image8& image) {
   if (image.width <= 0 || image.height <= 0)
     throw InputError("cannot encode an empty image as PNG");
   std::string out;
-  const int ok = stbi_write_png_to_func(append_bytes, &out, image.width, image.height,
-                                        image.channels, image.bytes.data(),
-                                        image.width * image.channels);
+  const int ok =
+      stbi_write_png_to_func(append_bytes, &out, image.width, image.height, image.channels,
+                             image.bytes.data(), image.width * image.channels);
   if (!ok) throw Error("PNG encoding failed");
   return out;
 }

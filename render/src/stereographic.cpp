@@ -35,7 +35,8 @@ glm::vec4 w_color(double w) {
 
 // Any unit vector perpendicular to t.
 Eigen::Vector3d perpendicular(const Eigen::Vector3d& t) {
-  const Eigen::Vector3d axis = std::abs(t.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d axis =
+      std::abs(t.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   return t.cross(axis).normalized();
 }
 
@@ -55,13 +56,15 @@ void add_ball(TriangleMesh& mesh, const Eigen::Vector3d& c, double radius, glm::
     const double phi = std::numbers::pi * i / kRings;
     for (int j = 0; j < kSegments; ++j) {
       const double th = 2.0 * std::numbers::pi * j / kSegments;
-      const Eigen::Vector3d n(std::sin(phi) * std::cos(th), std::sin(phi) * std::sin(th), std::cos(phi));
+      const Eigen::Vector3d n(std::sin(phi) * std::cos(th), std::sin(phi) * std::sin(th),
+                              std::cos(phi));
       mesh.vertices.push_back({to_glm(c + radius * n), to_glm(n), color});
     }
   }
   for (int i = 0; i < kRings; ++i)
     for (int j = 0; j < kSegments; ++j) {
-      const std::uint32_t a = first + i * kSegments + j, b = first + i * kSegments + (j + 1) % kSegments;
+      const std::uint32_t a = first + i * kSegments + j,
+                          b = first + i * kSegments + (j + 1) % kSegments;
       const std::uint32_t c2 = a + kSegments, d = b + kSegments;
       mesh.triangles.push_back({a, c2, d});
       mesh.triangles.push_back({a, d, b});
@@ -70,7 +73,8 @@ void add_ball(TriangleMesh& mesh, const Eigen::Vector3d& c, double radius, glm::
 
 }  // namespace
 
-std::vector<ProjectedCurve> stereographic_curves(const Complex& model, const StereographicOptions& o) {
+std::vector<ProjectedCurve> stereographic_curves(const Complex& model,
+                                                 const StereographicOptions& o) {
   if (model.ambient_dim() != 4) throw InputError("stereographic projection needs a 4D model");
   std::vector<ProjectedCurve> curves;
   const auto& p = model.positions();
@@ -115,8 +119,7 @@ std::vector<ProjectedCurve> stereographic_curves(const Complex& model, const Ste
     std::vector<std::pair<double, SpherePoint>> pts;
     std::function<void(double, const SpherePoint&, double, const SpherePoint&, int)> split =
         [&](double t0, const SpherePoint& p0, double t1, const SpherePoint& p1, int depth) {
-          const bool long_chord = !(p0.finite && p1.finite) ||
-                                  (p0.s - p1.s).norm() > o.max_chord;
+          const bool long_chord = !(p0.finite && p1.finite) || (p0.s - p1.s).norm() > o.max_chord;
           if (depth < kMaxDepth && long_chord) {
             const double tm = 0.5 * (t0 + t1);
             const SpherePoint pm = on_sphere(a + tm * (b - a));
@@ -216,7 +219,8 @@ Image render_stereographic(const Complex& model, const StereographicOptions& o) 
     std::vector<LineSegment> lines;
     for (const auto& c : curves)
       for (std::size_t i = 1; i < c.points.size(); ++i)
-        lines.push_back({to_glm(c.points[i - 1]), to_glm(c.points[i]), w_color(c.w[i - 1]), w_color(c.w[i])});
+        lines.push_back(
+            {to_glm(c.points[i - 1]), to_glm(c.points[i]), w_color(c.w[i - 1]), w_color(c.w[i])});
     DrawOptions d;
     d.line_width = o.line_width;
     r.draw_lines(lines, view, d);

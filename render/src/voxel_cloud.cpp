@@ -70,7 +70,8 @@ Image render_voxel_cloud(const Scene& scene, const Eigen::VectorXd& normal, cons
       }
     }
     TriangleMesh mesh = section_mesh(section);
-    for (auto& v : mesh.vertices) v.color.a = corrected_opacity(v.color.a * o.opacity, path, extent);
+    for (auto& v : mesh.vertices)
+      v.color.a = corrected_opacity(v.color.a * o.opacity, path, extent);
     // Section coordinates y -> volume (u, v, s) = (y1, y2, s) for x and y, depth from y3.
     glm::mat4 place(0.0f);  // column-major: place[col][row]
     place[0][0] = 1.0f;

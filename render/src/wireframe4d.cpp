@@ -28,8 +28,10 @@ std::optional<std::pair<double, double>> inside_interval(const Eigen::VectorXd& 
   for (const HalfSpace& h : planes) {
     const double fa = h.value(a), fb = h.value(b);
     if (fa > 0.0 && fb > 0.0) return std::nullopt;
-    if (fa > 0.0) t0 = std::max(t0, fa / (fa - fb));
-    else if (fb > 0.0) t1 = std::min(t1, fa / (fa - fb));
+    if (fa > 0.0)
+      t0 = std::max(t0, fa / (fa - fb));
+    else if (fb > 0.0)
+      t1 = std::min(t1, fa / (fa - fb));
   }
   if (!(t0 < t1)) return std::nullopt;
   return std::make_pair(t0, t1);
@@ -86,7 +88,8 @@ Ball scene_ball(const Scene& scene) {
   }
   b.centre = 0.5 * (lo + hi);
   for (const auto& w : worlds)
-    if (w.cols() > 0) b.radius = std::max(b.radius, (w.colwise() - b.centre).colwise().norm().maxCoeff());
+    if (w.cols() > 0)
+      b.radius = std::max(b.radius, (w.colwise() - b.centre).colwise().norm().maxCoeff());
   return b;
 }
 
@@ -125,7 +128,8 @@ ConvexOccluder ConvexOccluder::from(const Complex& world) {
     const HalfSpace& h = occ.facets_[f];
     const double worst = ((h.normal.transpose() * p).array() - h.offset).maxCoeff();
     if (worst > tol)
-      throw InputError("occluder: not convex (a vertex lies outside facet " + std::to_string(f) + ")");
+      throw InputError("occluder: not convex (a vertex lies outside facet " + std::to_string(f) +
+                       ")");
   }
   // Ridges: the boundary entries of the facets; each must be shared by exactly two facets.
   const std::size_t nr = facet_rank >= 1 ? world.count(facet_rank - 1) : 0;
@@ -193,8 +197,10 @@ Camera4 Camera4::look_at(const Eigen::VectorXd& eye, const Eigen::VectorXd& targ
   if (eye.size() != target.size() || eye.size() < 2)
     throw InputError("4D camera: eye and target must have the same dimension (>= 2)");
   const Eigen::VectorXd d = target - eye;
-  if (!(d.norm() > 0.0) || !d.allFinite()) throw InputError("4D camera: the eye and the target coincide");
-  if (!(fov > 0.0 && fov < 180.0)) throw InputError("4D camera: the field of view must lie in (0, 180)");
+  if (!(d.norm() > 0.0) || !d.allFinite())
+    throw InputError("4D camera: the eye and the target coincide");
+  if (!(fov > 0.0 && fov < 180.0))
+    throw InputError("4D camera: the field of view must lie in (0, 180)");
   const int n = static_cast<int>(eye.size());
   Camera4 c;
   c.eye = eye;
@@ -261,7 +267,8 @@ std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& cam
   }
   std::vector<ConvexOccluder::Shadow> shadows;
   for (const auto& occ : occluders)
-    shadows.push_back(occ ? occ->shadow(camera.eye, margin_rel * occ->radius()) : ConvexOccluder::Shadow{});
+    shadows.push_back(occ ? occ->shadow(camera.eye, margin_rel * occ->radius())
+                          : ConvexOccluder::Shadow{});
   const auto frustum = camera.frustum();
   std::vector<VisibleSegment> out;
   for (std::uint32_t i = 0; i < worlds.size(); ++i) {
@@ -273,8 +280,7 @@ std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& cam
       Intervals vis = clip_to_halfspaces(a, b, frustum);
       for (std::size_t j = 0; j < occluders.size() && !vis.empty(); ++j)
         if (occluders[j]) vis = occluders[j]->cull(a, b, vis, shadows[j]);
-      for (const auto& [t0, t1] : vis)
-        out.push_back({a + t0 * (b - a), a + t1 * (b - a), i, e});
+      for (const auto& [t0, t1] : vis) out.push_back({a + t0 * (b - a), a + t1 * (b - a), i, e});
     }
   }
   return out;
@@ -311,7 +317,8 @@ Image render_wireframe(const Scene& scene, const Camera4& camera, const Wirefram
   std::vector<LineSegment> lines;
   lines.reserve(segments.size());
   for (const auto& s : segments)
-    lines.push_back({to_glm3(camera.project(s.a)), to_glm3(camera.project(s.b)), cue(s.a), cue(s.b)});
+    lines.push_back(
+        {to_glm3(camera.project(s.a)), to_glm3(camera.project(s.b)), cue(s.a), cue(s.b)});
 
   RasterOptions ro = o.raster;
   ro.background = glm::vec4(0.0f);

@@ -9,7 +9,8 @@ namespace cw4d {
 
 std::vector<FacetTextureMap> facet_texture_maps(const Complex& model) {
   if (!model.has_facet_normals())
-    throw InputError("texture coordinates need the model's facet normals (build it with build_complex)");
+    throw InputError(
+        "texture coordinates need the model's facet normals (build it with build_complex)");
   const int rank = model.facet_rank();
   const Eigen::Index n = model.ambient_dim();
   std::vector<FacetTextureMap> maps(model.count(rank));
@@ -38,7 +39,8 @@ CornerUvw section_uvw(const Section& section, const std::vector<const Complex*>&
   const std::uint32_t nf = c.top_rank() >= 2 ? static_cast<std::uint32_t>(c.count(2)) : 0u;
   if (section.source.size() <= 2 || section.source[2].size() != nf ||
       section.vertex_source.size() != c.count(0))
-    throw InputError("texture coordinates of a section need its provenance (cut it with section())");
+    throw InputError(
+        "texture coordinates of a section need its provenance (cut it with section())");
   const bool per_object = section.object_of_face.size() == nf && nf > 0;
   std::vector<std::vector<FacetTextureMap>> maps(models.size());
   CornerUvw out;

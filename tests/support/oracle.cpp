@@ -19,8 +19,8 @@ double bspline(std::vector<double> x, double t) {
   for (int k = 2; k <= k_max; ++k) {
     for (std::size_t i = 0; i + k < x.size(); ++i) {
       const double span = x[i + k] - x[i];
-      m[i] = span > 0.0 ? k * ((t - x[i]) * m[i] + (x[i + k] - t) * m[i + 1]) / ((k - 1) * span)
-                        : 0.0;
+      m[i] =
+          span > 0.0 ? k * ((t - x[i]) * m[i] + (x[i + k] - t) * m[i + 1]) / ((k - 1) * span) : 0.0;
     }
   }
   return m[0];

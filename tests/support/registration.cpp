@@ -4,6 +4,8 @@
 
 namespace cw4d::test {
 
-void register_optional_models() { register_hull_models(); }
+void register_optional_models() {
+  register_hull_models();
+}
 
 }  // namespace cw4d::test

@@ -14,6 +14,8 @@ inline Eigen::VectorXd vec(std::initializer_list<double> xs) {
   return v;
 }
 
-inline double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+inline double radians(double degrees) {
+  return degrees * std::numbers::pi / 180.0;
+}
 
 }  // namespace cw4d::test

@@ -4,9 +4,10 @@
 // planar faces and flat cells (checked with validate()); none is convex.
 //
 //   spheritorus:R,r,N    (sqrt(x^2 + w^2) - R)^2 + y^2 + z^2 <= r^2        volume 8/3 pi^2 R r^3
-//   torisphere:R,r,N     (sqrt(x^2 + y^2 + w^2) - R)^2 + z^2 <= r^2        4 pi^2 R^2 r^2 + pi^2 r^4
-//   ditorus:R1,R2,r,N    (sqrt((sqrt(x^2 + w^2) - R1)^2 + y^2) - R2)^2 + z^2 <= r^2   4 pi^3 R1 R2 r^2
-//   tiger:R1,R2,r,N      (sqrt(x^2 + w^2) - R1)^2 + (sqrt(y^2 + z^2) - R2)^2 <= r^2   4 pi^3 R1 R2 r^2
+//   torisphere:R,r,N     (sqrt(x^2 + y^2 + w^2) - R)^2 + z^2 <= r^2        4 pi^2 R^2 r^2 + pi^2
+//   r^4 ditorus:R1,R2,r,N    (sqrt((sqrt(x^2 + w^2) - R1)^2 + y^2) - R2)^2 + z^2 <= r^2   4 pi^3 R1
+//   R2 r^2 tiger:R1,R2,r,N      (sqrt(x^2 + w^2) - R1)^2 + (sqrt(y^2 + z^2) - R2)^2 <= r^2   4 pi^3
+//   R1 R2 r^2
 //
 // N is the number of segments of every circle (the tube, the sweeps), 3..max_toratope_resolution;
 // the polytopes are inscribed, so their volumes approach the values above from below.

@@ -9,9 +9,9 @@
 namespace cw4d {
 
 struct ValidationIssue {
-  int rank;            ///< rank of the offending element
-  std::uint32_t id;    ///< its id
-  std::string what;    ///< one-line description
+  int rank;          ///< rank of the offending element
+  std::uint32_t id;  ///< its id
+  std::string what;  ///< one-line description
 };
 
 struct ValidationReport {

@@ -26,6 +26,7 @@ struct SvgOptions {
 std::string svg_text(const Section& section, const SvgOptions& options = {});
 
 /// Writes through a temporary file and a rename. \throw IoError, InputError.
-void write_svg_file(const std::string& path, const Section& section, const SvgOptions& options = {});
+void write_svg_file(const std::string& path, const Section& section,
+                    const SvgOptions& options = {});
 
 }  // namespace cw4d

@@ -12,7 +12,7 @@ enum class Projection { Perspective, Orthographic };
 /// specular highlights and two-sided lighting).
 struct View {
   glm::mat4 clip_from_world{1.0f};
-  glm::vec3 eye{0.0f};      ///< perspective: the eye point
+  glm::vec3 eye{0.0f};                   ///< perspective: the eye point
   glm::vec3 forward{0.0f, 0.0f, -1.0f};  ///< unit viewing direction
   bool orthographic = false;
   /// Unit vector from a world point towards the viewer.
@@ -41,9 +41,9 @@ struct Camera {
   /// so that the sphere fills the smaller image side up to `margin` (>= 1).
   /// Up is `up` when given (non-zero, not parallel to `from`), else +z unless `from` is
   /// (almost) parallel to it, then +y.
-  static Camera framing(const glm::vec3& centre, float radius, const glm::vec3& from,
-                        float aspect, Projection projection, float fov_y_degrees = 35.0f,
-                        float margin = 1.08f, const glm::vec3& up = glm::vec3(0.0f));
+  static Camera framing(const glm::vec3& centre, float radius, const glm::vec3& from, float aspect,
+                        Projection projection, float fov_y_degrees = 35.0f, float margin = 1.08f,
+                        const glm::vec3& up = glm::vec3(0.0f));
 };
 
 }  // namespace cw4d::render

@@ -19,7 +19,9 @@ struct Image {
   Image() = default;
   Image(int w, int h, glm::vec4 fill = glm::vec4(0.0f));
   glm::vec4& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-  const glm::vec4& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  const glm::vec4& at(int x, int y) const {
+    return pixels[static_cast<std::size_t>(y) * width + x];
+  }
   /// Sum of the alpha channel: the covered area in pixels when drawn over a transparent
   /// background with opaque colors.
   double coverage() const;

@@ -40,9 +40,7 @@ struct Section {
 
   bool empty() const { return complex.count(0) == 0; }
   /// World-space position of section vertex v (on the hyperplane).
-  Eigen::VectorXd world_position(std::uint32_t v) const {
-    return frame.lift(complex.position(v));
-  }
+  Eigen::VectorXd world_position(std::uint32_t v) const { return frame.lift(complex.position(v)); }
 };
 
 /// Cuts `model`, placed in the world by x_world = model_to_world(x_model), with a world-space
