@@ -1,6 +1,7 @@
 #pragma once
-// The layered hyperplane section of seed 000 (vertices -> edges -> faces -> cells), for complexes
-// of any dimension: cutting a closed complex in R^n gives a closed complex in R^(n-1).
+// The layered hyperplane section of [wxyhly 2024] (docs/REFERENCES.md): vertices -> edges ->
+// faces -> cells, for complexes of any dimension; cutting a closed complex in R^n gives a closed
+// complex in R^(n-1).
 #include <cstdint>
 #include <vector>
 
