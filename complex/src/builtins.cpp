@@ -486,9 +486,7 @@ std::vector<ModelFamily> default_families() {
     star.matches = [](std::string_view lowered) {
       return star_polychoron_diagram(lowered).has_value();
     };
-    star.make = [](const std::string& spec) {
-      return make_wythoff(*star_polychoron_diagram(lower(spec)));
-    };
+    star.make = [](const std::string& spec) { return make_star_polychoron(lower(spec)); };
     f.push_back(std::move(star));
   }
   f.push_back(parametric_family("simplex", "simplex:N",

@@ -346,7 +346,7 @@ const char* rank_word(int k) {
 // sorted vertex sets and keep the order of `base` (a cycle stays a cycle, since the generators
 // are isometries). An image equal to an element of another sub-diagram is a degeneracy.
 void add_orbit(VertexList base, std::uint32_t t, const Orbit& orbit, FaceIndex& seen, Elements& e,
-               const std::string& name, const CoxeterDiagram& d, int k) {
+               const std::string& name, const CoxeterDiagram& d, int k, bool fold) {
   const int n = static_cast<int>(orbit.perm.size());
   auto coincide = [&](std::uint32_t other) {
     throw InputError(name + " is degenerate: its " + rank_word(k) + " of the sub-diagrams " +
@@ -357,6 +357,12 @@ void add_orbit(VertexList base, std::uint32_t t, const Orbit& orbit, FaceIndex& 
   std::sort(key.begin(), key.end());
   const auto [it, fresh] =
       seen.try_emplace(std::move(key), static_cast<std::uint32_t>(e.verts.size()));
+  // Folded vertices make edges of different sub-diagrams coincide: they are one edge.
+  const bool merge = fold && k == 1;
+  if (!fresh && merge) {
+    e.seeds.push_back(it->second);
+    return;
+  }
   if (!fresh) coincide(it->second);
   std::size_t next = e.verts.size();
   e.seeds.push_back(static_cast<std::uint32_t>(next));
@@ -379,7 +385,7 @@ void add_orbit(VertexList base, std::uint32_t t, const Orbit& orbit, FaceIndex& 
         e.type.push_back(t);
         e.parent.push_back(static_cast<std::uint32_t>(next));
         e.via.push_back(static_cast<std::uint32_t>(g));
-      } else if (e.type[at->second] != t) {
+      } else if (e.type[at->second] != t && !merge) {
         coincide(at->second);
       }
       e.act[g].push_back(at->second);
@@ -393,7 +399,8 @@ void add_orbit(VertexList base, std::uint32_t t, const Orbit& orbit, FaceIndex& 
 // polytope are the cosets of its parabolic subgroups, incident when they meet), carried to the
 // rest of the orbit by the generators.
 Elements elements_of_rank(int k, const Eigen::MatrixXi& m, const CoxeterDiagram& d,
-                          const Orbit& orbit, const Elements* lower, const std::string& name) {
+                          const Orbit& orbit, const Elements* lower, const std::string& name,
+                          bool fold) {
   const int n = d.rank();
   FaceIndex seen;
   Elements e;
@@ -405,7 +412,9 @@ Elements elements_of_rank(int k, const Eigen::MatrixXi& m, const CoxeterDiagram&
     if (k == 2) {
       VertexList sorted = base;
       std::sort(sorted.begin(), sorted.end());
-      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() || base.size() < 3)
+      const auto m2 = static_cast<std::size_t>(m(gens[0], gens[1]));
+      const std::size_t sides = d.ringed[gens[0]] && d.ringed[gens[1]] ? 2 * m2 : m2;
+      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end() || base.size() != sides)
         throw InputError(name + " is degenerate: the face of the sub-diagram " +
                          mask_text(d, mask) + " runs through coinciding vertices");
     }
@@ -422,7 +431,7 @@ Elements elements_of_rank(int k, const Eigen::MatrixXi& m, const CoxeterDiagram&
     const auto t = static_cast<std::uint32_t>(e.masks.size());
     e.masks.push_back(mask);
     const std::size_t first = e.verts.size();
-    add_orbit(std::move(base), t, orbit, seen, e, name, d, k);
+    add_orbit(std::move(base), t, orbit, seen, e, name, d, k, fold);
     if (k < 3) continue;
     // Boundary of the seed.
     VertexList bound;
@@ -493,7 +502,7 @@ CoxeterDiagram parse_coxeter_diagram(std::string_view text) {
   return d;
 }
 
-Complex make_wythoff(const CoxeterDiagram& d) {
+Complex make_wythoff(const CoxeterDiagram& d, const WythoffOptions& options) {
   check_shape(d);
   const std::string name = quoted(to_text(d));
   const int n = d.rank();
@@ -525,7 +534,8 @@ Complex make_wythoff(const CoxeterDiagram& d) {
     for (const auto& r : *mirrors)
       if (std::abs(r.dot(base)) <= kSameVertexRel * base.norm()) ++through;
     const std::size_t own = unringed.empty() ? 0 : mirror_normals(roots, unringed, cap)->size();
-    if (through != own)
+    // A polygon has nothing to fold onto: its edges would double.
+    if (through != own && !(options.fold_coincident_vertices && n >= 3))
       throw InputError(name +
                        " is degenerate: its vertices coincide (the base point lies on a mirror "
                        "of the group outside the unringed nodes' subgroup)");
@@ -534,7 +544,8 @@ Complex make_wythoff(const CoxeterDiagram& d) {
 
   std::vector<Elements> elems(n);  // elems[k]: rank k, 1 <= k < n
   for (int k = 1; k < n; ++k)
-    elems[k] = elements_of_rank(k, m, d, orbit, k > 1 ? &elems[k - 1] : nullptr, name);
+    elems[k] = elements_of_rank(k, m, d, orbit, k > 1 ? &elems[k - 1] : nullptr, name,
+                                options.fold_coincident_vertices);
 
   ComplexSoup soup;
   soup.ambient_dim = n;
@@ -553,6 +564,14 @@ Complex make_wythoff(const CoxeterDiagram& d) {
                        report.summary(1) + ")");
   }
   return c;
+}
+
+Complex make_wythoff(const CoxeterDiagram& d) {
+  return make_wythoff(d, WythoffOptions{});
+}
+
+Complex make_wythoff(std::string_view diagram, const WythoffOptions& options) {
+  return make_wythoff(parse_coxeter_diagram(diagram), options);
 }
 
 Complex make_wythoff(std::string_view diagram) {
@@ -652,13 +671,16 @@ const std::vector<NamedDiagram>& star_polychoron_names() {
       {"rectified icosahedral hecatonicosachoron", "o3x5o5/2o"},
       {"rectified stellated hecatonicosachoron", "o5/2x5o3o"},
       {"runcinated icosahedral hecatonicosachoron", "x3o5o5/2x"},
+      // Four Wythoff vertices of x5/2o3o3x coincide at each point (and the edges in pairs):
+      // Miratope's file is the folded figure.
+      {"runcinated great grand stellated hecatonicosachoron", "x5/2o3o3x", true},
       {"truncated grand hexacosichoron", "x3x3o5/2o"},
       {"truncated icosahedral hecatonicosachoron", "x3x5o5/2o"},
   };
   return names;
 }
 
-std::optional<std::string> star_polychoron_diagram(std::string_view name) {
+std::optional<NamedDiagram> star_polychoron(std::string_view name) {
   auto normal = [](std::string_view text) {
     std::string s;
     for (char ch : text) {
@@ -687,10 +709,22 @@ std::optional<std::string> star_polychoron_diagram(std::string_view name) {
   };
   const std::string s = normal(name);
   for (const auto& e : star_polychoron_names())
-    if (s == normal(e.name)) return std::string(e.diagram);
+    if (s == normal(e.name)) return e;
   for (const auto& e : aliases)
-    if (s == normal(e.name)) return std::string(e.diagram);
+    if (s == normal(e.name)) return e;
   return std::nullopt;
+}
+
+std::optional<std::string> star_polychoron_diagram(std::string_view name) {
+  const auto e = star_polychoron(name);
+  if (!e) return std::nullopt;
+  return std::string(e->diagram);
+}
+
+Complex make_star_polychoron(std::string_view name) {
+  const auto e = star_polychoron(name);
+  if (!e) throw InputError("'" + std::string(name) + "' names no star polychoron");
+  return make_wythoff(e->diagram, WythoffOptions{e->folded});
 }
 
 }  // namespace cw4d

@@ -59,6 +59,17 @@ CoxeterDiagram parse_coxeter_diagram(std::string_view text);
 Complex make_wythoff(const CoxeterDiagram& diagram);
 Complex make_wythoff(std::string_view diagram);
 
+struct WythoffOptions {
+  /// Accept a fractional diagram whose base point lies on more mirrors than the unringed
+  /// nodes' (its vertices, and then some edges, coincide) and build the figure with the
+  /// coinciding vertices and edges identified, as Miratope and Klitzing list some of them; the
+  /// faces and cells must still be distinct and the result must validate. Ignored for rank 2
+  /// (a polygon would only be traversed twice).
+  bool fold_coincident_vertices = false;
+};
+Complex make_wythoff(const CoxeterDiagram& diagram, const WythoffOptions& options);
+Complex make_wythoff(std::string_view diagram, const WythoffOptions& options);
+
 /// The diagram of a convex uniform polychoron named in English, case-insensitive, words joined
 /// by spaces, hyphens or underscores: an optional operation (truncated, rectified, bitruncated,
 /// cantellated, runcinated, cantitruncated, runcitruncated, omnitruncated) followed by a regular
@@ -67,20 +78,28 @@ Complex make_wythoff(std::string_view diagram);
 /// for "truncated tesseract", nullopt for anything else.
 std::optional<std::string> uniform_polychoron_diagram(std::string_view name);
 
-/// The diagram of a regular star polychoron (Schlaefli-Hess: "great grand stellated
-/// 120-cell", "grand 600-cell", ..., or the Greek forms "great grand stellated
-/// hecatonicosachoron", "grand hexacosichoron") or of a named non-convex uniform polychoron as
-/// Miratope names its files ("quasitruncated tesseract", "rectified great grand
-/// hecatonicosachoron", ...); case-insensitive, words joined by spaces, hyphens or underscores.
-/// nullopt for anything else.
-std::optional<std::string> star_polychoron_diagram(std::string_view name);
-
-/// The names star_polychoron_diagram knows (one per polychoron, lower case, words joined by
-/// spaces) with their diagrams, in a fixed order: the ten regular ones first.
+/// A named star polychoron: its diagram, and whether it is the folded figure of that diagram
+/// (WythoffOptions::fold_coincident_vertices).
 struct NamedDiagram {
   const char* name;
   const char* diagram;
+  bool folded = false;
 };
+
+/// The regular star polychora (Schlaefli-Hess: "great grand stellated 120-cell", "grand
+/// 600-cell", ..., or the Greek forms "great grand stellated hecatonicosachoron", "grand
+/// hexacosichoron") and the named non-convex uniform polychora as Miratope names its files
+/// ("quasitruncated tesseract", "rectified great grand hecatonicosachoron", ...);
+/// case-insensitive, words joined by spaces, hyphens or underscores. nullopt for anything else.
+std::optional<NamedDiagram> star_polychoron(std::string_view name);
+/// The diagram of star_polychoron(name).
+std::optional<std::string> star_polychoron_diagram(std::string_view name);
+/// The polychoron star_polychoron(name) names, built from its diagram (edge 2).
+/// \throw InputError for a name star_polychoron does not know.
+Complex make_star_polychoron(std::string_view name);
+
+/// One entry per polychoron (lower case, words joined by spaces), in a fixed order: the ten
+/// regular ones first.
 const std::vector<NamedDiagram>& star_polychoron_names();
 
 }  // namespace cw4d
