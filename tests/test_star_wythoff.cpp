@@ -221,6 +221,9 @@ TEST_CASE("the regular star polychora have their Schlaefli-Hess names", "[wythof
   CHECK(star_polychoron_diagram("stellated 120-cell") == std::optional<std::string>("x5/2o5o3o"));
   CHECK_FALSE(star_polychoron_diagram("great grand great 120-cell").has_value());
   CHECK_FALSE(star_polychoron_diagram("120-cell").has_value());
+  // A misspelt name is suggested.
+  CHECK_THROWS_WITH(load_model("great grand stelated 120-cell"),
+                    Catch::Contains("did you mean 'great grand stellated 120-cell'"));
 }
 
 TEST_CASE("every non-convex uniform Miratope file is built from its diagram",

@@ -487,6 +487,7 @@ std::vector<ModelFamily> default_families() {
       return star_polychoron_diagram(lowered).has_value();
     };
     star.make = [](const std::string& spec) { return make_star_polychoron(lower(spec)); };
+    for (const NamedDiagram& e : star_polychoron_names()) star.names.emplace_back(e.name);
     f.push_back(std::move(star));
   }
   f.push_back(parametric_family("simplex", "simplex:N",
