@@ -370,3 +370,58 @@ TEST_CASE("degenerate and impossible fractional diagrams are refused with the re
   CHECK(d.labels == std::vector<int>{5, 3, 4});
   CHECK(d.denominators == std::vector<int>{2, 1, 3});
 }
+
+TEST_CASE("every fractional 3-node diagram and every B4/F4-type 4-node one builds or is refused",
+          "[wythoff][star][errors]") {
+  // A sweep over the marks of the finite groups: each diagram either gives a valid, outward
+  // oriented complex with every edge of length 2 and one circumradius, or an InputError that
+  // names one of the documented reasons, never another exception.
+  const std::vector<std::string> reasons = {
+      "infinite",           "not a spherical", "vertices coincide",   "coincide",
+      "through the centre", "do not close up", "coinciding vertices", "component without"};
+  auto sweep = [&](const std::vector<std::string>& marks, int nodes, int& built, int& refused) {
+    std::vector<std::size_t> pick(static_cast<std::size_t>(nodes - 1), 0);
+    while (true) {
+      for (unsigned rings = 1; rings < (1u << nodes); ++rings) {
+        std::string d;
+        for (int i = 0; i < nodes; ++i) {
+          if (i > 0) d += marks[pick[static_cast<std::size_t>(i - 1)]];
+          d += (rings >> i & 1u) ? 'x' : 'o';
+        }
+        INFO(d);
+        try {
+          const Complex c = make_wythoff(d);
+          ++built;
+          REQUIRE(validate(c).ok());
+          REQUIRE(signed_volume(c) > 0.0);
+          const double r = c.position(0).norm();
+          for (std::uint32_t v = 0; v < c.count(0); ++v)
+            REQUIRE(c.position(v).norm() == Approx(r).epsilon(1e-9));
+          for (std::uint32_t e = 0; e < c.count(1); ++e) {
+            const auto ends = c.boundary(1).ids(e);
+            REQUIRE((c.position(ends[0]) - c.position(ends[1])).norm() ==
+                    Approx(2.0).epsilon(1e-9));
+          }
+        } catch (const InputError& e) {
+          ++refused;
+          const std::string what = e.what();
+          INFO(what);
+          CHECK(std::any_of(reasons.begin(), reasons.end(), [&](const std::string& r) {
+            return what.find(r) != std::string::npos;
+          }));
+        }
+      }
+      std::size_t i = 0;
+      while (i < pick.size() && ++pick[i] == marks.size()) pick[i++] = 0;
+      if (i == pick.size()) break;
+    }
+  };
+  int built = 0, refused = 0;
+  sweep({"2", "3", "3/2", "4", "4/3", "5", "5/2", "5/3", "5/4", "7/2", "8/3"}, 3, built, refused);
+  CHECK(built > 200);
+  CHECK(refused > 400);
+  built = refused = 0;
+  sweep({"3", "3/2", "4", "4/3"}, 4, built, refused);
+  CHECK(built > 300);
+  CHECK(refused > 300);
+}
