@@ -872,7 +872,8 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   return true;
 }
 
-int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                         bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
@@ -909,14 +910,22 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // Rank 1: the crossings, in id order cluster by cluster.
   std::uint32_t cut_faces_bound = 0;
   for (auto c : touched_) {
-    // The crossing edges first, listed without a branch (the sides are unpredictable).
+    // The crossing edges first: listed without a branch (the sides are unpredictable), or
+    // those a sweep marked.
     const std::uint32_t e0 = m.begin_[0][c], e1 = m.begin_[0][c + 1];
     if (crossing_ids_.size() < e1 - e0) crossing_ids_.resize(e1 - e0);
     std::uint32_t* list = crossing_ids_.data();
     std::uint32_t count = 0;
-    for (std::uint32_t e = e0; e < e1; ++e) {
-      list[count] = e;
-      count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
+    if (marked_edges) {
+      visit_marked(mark_[1], e0, e1, [&](std::uint32_t e) {
+        list[count++] = e;
+        return true;
+      });
+    } else {
+      for (std::uint32_t e = e0; e < e1; ++e) {
+        list[count] = e;
+        count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
+      }
     }
     const std::uint32_t v0 = static_cast<std::uint32_t>(out.vertex_source.size());
     out.vertex_source.resize(v0 + count);
@@ -1520,7 +1529,6 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     for (std::size_t c = 0; c < nc; ++c)
       if (pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
         touched_.push_back(static_cast<std::uint32_t>(c));
-    start_buffers(m, pl, o);
     // The crossing edges in increasing id order (marked, then visited cluster by cluster as a
     // slice visits them).
     std::vector<std::uint64_t>& edge_bits = mark_[1];
@@ -1532,6 +1540,16 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
       side_[b] = s_[b] < 0.0 ? -1 : 1;
       edge_bits[e >> 6] |= std::uint64_t{1} << (e & 63);
     }
+    if (n == 4 && m.top_ >= 3) {  // the slice's own kernel on the marked crossings
+      if (kernel_slice(m, pl, o, true) > 0) {
+        ++fast_count_;
+        continue;
+      }
+      clear_marks(m);
+      single(k);  // degenerate, or for the generic gathering: exactly what slice() gives
+      continue;
+    }
+    start_buffers(m, pl, o);
     bool ok = true;
     for (auto c : touched_)
       if (!visit_marked(edge_bits, m.begin_[0][c], m.begin_[0][c + 1],

@@ -245,7 +245,9 @@ class Slicer {
   // The specialised kernel of a slice in R^4 (after the vertex pass): 1 when it made the
   // buffers, 0 when the slice needs the general path (reason_ set), -1 when it met something
   // only the generic gathering decides (the caller clears the marks and runs that instead).
-  int kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  // marked_edges: the crossing edges are those marked in mark_[1] (a sweep's active edges).
+  int kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                   bool marked_edges = false);
   bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
              SliceBuffers& out);
   void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
