@@ -734,13 +734,13 @@ void Slicer::prepare(const SliceModel& m) {
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
     std::fill(edge_img_.begin(), edge_img_.end(), 0);
-    std::fill(face_img_.begin(), face_img_.end(), 0);
+    std::fill(face_img_.begin(), face_img_.end(), FaceImage{});
     gen_ = 1;
   }
   if (top >= 2) {
     const std::size_t ne = m.ranks_[1].offsets.size() - 1, nf = m.ranks_[2].offsets.size() - 1;
     if (edge_img_.size() < ne) edge_img_.resize(ne, 0);
-    if (face_img_.size() < nf) face_img_.resize(nf, 0);
+    if (face_img_.size() < nf) face_img_.resize(nf);
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   if (images_.size() < static_cast<std::size_t>(top + 1))
@@ -891,7 +891,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const double* edge_length = m.edge_length_.data();
   const double weld = m.weld_;
   std::uint64_t* edge_img = edge_img_.data();
-  std::uint64_t* face_img = face_img_.data();
+  FaceImage* face_img = face_img_.data();
   // Byte marks of the faces and cells to visit, all zero between slices (cleared by the visits,
   // or wholly when the kernel stops half way).
   if (face_mark_.size() < F.offsets.size() - 1) face_mark_.resize(F.offsets.size() - 1, 0);
@@ -984,7 +984,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const bool first_is_tail = coef[0] < 0;
       edge_row[2 * nse] = first_is_tail ? v[0] : v[1];
       edge_row[2 * nse + 1] = first_is_tail ? v[1] : v[0];
-      face_img[x] = g | nse;
+      face_img[x] = {gen_, nse, edge_row[2 * nse], edge_row[2 * nse + 1]};
       src[nse] = F.model_id.empty() ? x : F.model_id[x];
       ++nse;
       for (std::uint32_t i = face_up[x]; i < face_up[x + 1]; ++i) cell_marks[face_up_ids[i]] = 1;
@@ -1036,12 +1036,12 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t st = stamp_;
       std::uint32_t lo = 0xffffffffu, ns = 0;
       for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
-        const std::uint64_t img = face_img[ids[i]];
-        if ((img & kGen) != g) continue;
-        const std::uint32_t se = static_cast<std::uint32_t>(img);
+        const FaceImage img = face_img[ids[i]];
+        if (img.gen != gen_) continue;
+        const std::uint32_t se = img.edge;
         const bool forward = signs[i] < 0;  // the step's sign, -signs[i], is +1
-        const std::uint32_t tail = edge_row[2 * se + (forward ? 0 : 1)];
-        const std::uint32_t head = edge_row[2 * se + (forward ? 1 : 0)];
+        const std::uint32_t tail = forward ? img.tail : img.head;
+        const std::uint32_t head = forward ? img.head : img.tail;
         if (step[tail].stamp == st) return false;  // a pinch (or a face listed twice)
         step[tail] = {st, head, forward ? se : se | kFlip};
         lo = std::min(lo, tail);

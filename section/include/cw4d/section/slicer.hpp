@@ -304,11 +304,16 @@ class Slicer {
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
   // kernel_slice scratch: per model edge (gen_ << 32) | section vertex | sign bit, per model
-  // face (gen_ << 32) | section edge; per section vertex the step leaving it in the current cell.
+  // face its section edge with the edge's ends (one load per step of a cell), per section
+  // vertex the step leaving it in the current cell.
   struct LoopStep {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  std::vector<std::uint64_t> edge_img_, face_img_;
+  struct FaceImage {
+    std::uint32_t gen = 0, edge = 0, tail = 0, head = 0;  // its section edge and that's ends
+  };
+  std::vector<std::uint64_t> edge_img_;
+  std::vector<FaceImage> face_img_;
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
