@@ -124,10 +124,12 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
     ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
     tris += kTris[mask];
   }
+  // (conservativeResize: a realloc, in place when the slice shrinks, where resize frees and
+  // allocates anew for every new triangle count)
   const auto n = static_cast<Eigen::Index>(3 * tris);
-  if (out.positions.cols() != n) out.positions.resize(3, n);
-  if (out.normals.cols() != n) out.normals.resize(3, n);
-  if (out.uvw.cols() != n) out.uvw.resize(3, n);
+  if (out.positions.cols() != n) out.positions.conservativeResize(3, n);
+  if (out.normals.cols() != n) out.normals.conservativeResize(3, n);
+  if (out.uvw.cols() != n) out.uvw.conservativeResize(3, n);
   out.corners.resize(3 * tris);
   out.tet.resize(tris);
   out.cell.resize(tris);
