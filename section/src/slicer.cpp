@@ -470,6 +470,14 @@ struct Slicer::Placement {
     nm_norm = std::sqrt(nn);
     hyperplane_basis(p.normal.data(), n, basis);
     const int o = n - 1;
+    if (!xf) {
+      // The identity: every sum below adds exact zeros to one term, which leaves that term
+      // (+ 0.0 turns a -0 into the +0 such a sum starts from); the inverse is exact, no reflection.
+      for (int r = 0; r < o; ++r)
+        for (int j = 0; j < n; ++j) M[r * n + j] = N[r * n + j] = basis[r * n + j] + 0.0;
+      reflect = false;
+      return;
+    }
     for (int r = 0; r < o; ++r)
       for (int j = 0; j < n; ++j) {
         double sum = 0.0;
