@@ -549,6 +549,12 @@ class Unfolder {
       net.piece_facet.push_back(piece_of_vertex(net.complex.first_vertex(m_, i)));
     for (std::uint32_t i = 0; i < net.complex.count(m_ - 1); ++i)
       net.boundary_facet.push_back(piece_of_vertex(net.complex.first_vertex(m_ - 1, i)));
+    // The pieces' faces carry their cell's color too (what OBJ materials and pictures read).
+    if (m_ == 3 && colors.size() == nf_) {
+      auto& fc = net.complex.colors_mut(2);
+      fc.resize(net.complex.count(2));
+      for (std::size_t i = 0; i < fc.size(); ++i) fc[i] = colors[net.boundary_facet[i]];
+    }
     // Overlaps.
     for (std::uint32_t a = 0; a < nf_; ++a)
       for (std::uint32_t b = a + 1; b < nf_; ++b)
