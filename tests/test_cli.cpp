@@ -764,6 +764,7 @@ TEST_CASE("net refuses bad requests with one line and writes nothing", "[cli][ne
       {{"net", "tesseract", "--root", "8", "-o", "x.obj"}, 1},
       {{"net", "tesseract", "--tree", "spiral", "-o", "x.obj"}, 1},
       {{"net", "tesseract", "-o", "x.xyz"}, 1},
+      {{"net", "tesseract", "--format", "png", "-o", "x.obj"}, 1},
       {{"net", "cube:5", "-o", "x.obj"}, 1},
       {{"net", "cube:3", "-o", "x.png"}, 1},
       {{"net", "cube:3", "-o", "x.svg"}, 1},

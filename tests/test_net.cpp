@@ -271,6 +271,23 @@ TEST_CASE("greedy trees avoid the overlaps of depth-first ones", "[net]") {
   CHECK(sampled_overlaps(greedy, 20).empty());
 }
 
+TEST_CASE("nets keep the cells' colors", "[net]") {
+  Complex t = make_cube(4);
+  auto& colors = t.colors_mut(3);
+  for (std::uint32_t c = 0; c < 8; ++c) colors.push_back({c / 8.0f, 1.0f - c / 8.0f, 0.5f, 1.0f});
+  const Net net = unfold(t);
+  REQUIRE(net.complex.colors(3).size() == 8);
+  for (std::uint32_t i = 0; i < 8; ++i)
+    CHECK(net.complex.colors(3)[i] == colors[net.piece_facet[i]]);
+  REQUIRE(net.complex.colors(2).size() == net.complex.count(2));
+  for (std::uint32_t f = 0; f < net.complex.count(2); ++f)
+    CHECK(net.complex.colors(2)[f] == colors[net.boundary_facet[f]]);
+  // Each face of the net belongs to the piece of its cell.
+  for (std::uint32_t i = 0; i < 8; ++i)
+    for (const auto f : net.complex.boundary(3).ids(i))
+      CHECK(net.boundary_facet[f] == net.piece_facet[i]);
+}
+
 TEST_CASE("separating axes: touching is not overlapping", "[net]") {
   Eigen::MatrixXd a(2, 4), b(2, 4);
   a << 0, 1, 1, 0, 0, 0, 1, 1;

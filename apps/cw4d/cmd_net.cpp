@@ -40,8 +40,10 @@ void run_net(NetSettings& s) {
   if (png && !s.format.empty() && s.format != "png")
     throw InputError("--format " + s.format + " contradicts the extension of '" + s.output +
                      "' (png)");
-  const SectionFormat format =
-      png ? SectionFormat::obj : choose_format(s.output, s.format == "png" ? "" : s.format);
+  if (!png && s.format == "png")
+    throw InputError("--format png contradicts the extension of '" + s.output +
+                     "': name the file .png or drop --format");
+  const SectionFormat format = png ? SectionFormat::obj : choose_format(s.output, s.format);
   const NetTree tree = parse_net_tree(s.tree);
   render::RasterOptions raster;
   if (png) {
