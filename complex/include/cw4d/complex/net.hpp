@@ -111,8 +111,9 @@ Net unfold(const Complex& model, const NetOptions& options = {});
 bool interiors_overlap(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b,
                        const std::vector<Eigen::VectorXd>& axes, double tol);
 
-/// The overlapping pairs of pieces of a net (a < b, in model facet ids), by interiors_overlap
-/// with each pair's facet normals and edge cross products.
+/// The overlapping pairs of pieces of a net (a < b, in model facet ids), recomputed from the
+/// net's complex alone: separating axes from each pair's facet normals and edge cross
+/// products, with a tolerance of tol_rel times the net's diameter.
 std::vector<std::pair<std::uint32_t, std::uint32_t>> net_overlaps(const Net& net,
                                                                   double tol_rel = 1e-9);
 
