@@ -271,6 +271,31 @@ TEST_CASE("greedy trees avoid the overlaps of depth-first ones", "[net]") {
   CHECK(sampled_overlaps(greedy, 20).empty());
 }
 
+TEST_CASE("auto reports when no tree it tried is free of overlaps", "[net]") {
+  // A coarse ditorus (a torus swept around a circle) overlaps itself in every tree tried.
+  const Complex d = load_model("ditorus:3,1.2,0.4,3");
+  const Net best = unfold(d);
+  CHECK_FALSE(best.overlaps.empty());
+  // Real overlaps (its cells are convex): samples of one piece lie inside another.
+  CHECK_FALSE(sampled_overlaps(best, 300).empty());
+  CHECK(best.trees_tried == 8 * (3 + 16));  // 8 roots: bfs, greedy, dfs and 16 random trees
+  CHECK(validate(best.complex).ok());
+  // The answer is the tree with the fewest overlapping pairs: no worse than each fixed tree.
+  for (const NetTree t : {NetTree::Bfs, NetTree::Dfs}) {
+    NetOptions opt;
+    opt.tree = t;
+    opt.root = 0;
+    CHECK(best.overlaps.size() <= unfold(d, opt).overlaps.size());
+  }
+  // A greedy tree that cannot avoid overlaps is reported as the breadth-first tree.
+  NetOptions greedy;
+  greedy.tree = NetTree::Greedy;
+  greedy.root = 0;
+  const Net g = unfold(d, greedy);
+  CHECK(g.tree == NetTree::Bfs);
+  CHECK_FALSE(g.overlaps.empty());
+}
+
 TEST_CASE("nets keep the cells' colors", "[net]") {
   Complex t = make_cube(4);
   auto& colors = t.colors_mut(3);

@@ -125,17 +125,19 @@ class Unfolder {
       if (opt_.tree != NetTree::Auto) {
         std::vector<long long> parent;
         std::vector<std::uint32_t> hinge;
+        NetTree used = opt_.tree;
         if (opt_.tree == NetTree::Greedy) {
           if (!greedy_tree(root, parent, hinge)) {
             // No overlap-free placement: report the breadth-first tree's overlaps instead.
             bfs_tree(root, false, parent, hinge);
+            used = NetTree::Bfs;
           }
         } else if (opt_.tree == NetTree::Random) {
           random_tree(root, opt_.seed, parent, hinge);
         } else {
           bfs_tree(root, opt_.tree == NetTree::Dfs, parent, hinge);
         }
-        consider(make_net(root, parent, hinge, opt_.tree, opt_.seed));
+        consider(make_net(root, parent, hinge, used, opt_.seed));
         break;
       }
       std::vector<long long> parent;

@@ -42,7 +42,7 @@ enum class NetTree {
   Dfs,
   /// Breadth first, but a facet is only attached where it overlaps no facet placed before it;
   /// a facet that fits nowhere when its turn comes is retried after the others, and the tree
-  /// fails when a full pass places nothing.
+  /// fails when a full pass places nothing (unfold then returns the Bfs tree, overlaps and all).
   Greedy,
   /// A random spanning tree (random edge weights, Kruskal), seeded by NetOptions::seed.
   Random,
