@@ -12,6 +12,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/net.hpp"
+#include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 
 using namespace cw4d;
@@ -209,6 +210,29 @@ TEST_CASE("tesseract: the breadth-first net is the cross of eight cubes", "[net]
     CHECK(std::count_if(d2.begin(), d2.end(), [](double x) { return std::abs(x - 4.0) < 1e-9; }) ==
           12);
   }
+}
+
+TEST_CASE("a unit tesseract placed anywhere unfolds into eight unit cubes", "[net]") {
+  // Scaled to edge 1, turned in three planes and moved: the same cross of unit cubes.
+  AffineTransform place = AffineTransform::scale(4, 0.5);
+  place = AffineTransform::rotation(4, 0, 3, 0.7) * place;
+  place = AffineTransform::rotation(4, 1, 2, -1.1) * place;
+  place = AffineTransform::rotation(4, 2, 3, 0.3) * place;
+  place = AffineTransform::translation(Eigen::Vector4d(3, -2, 1, 5)) * place;
+  const Complex t = transformed(make_cube(4), place);
+  NetOptions opt;
+  opt.tree = NetTree::Bfs;
+  const Net net = unfold(t, opt);
+  check_net(t, net, 8.0);
+  for (std::uint32_t i = 0; i < 8; ++i) CHECK(element_volume(net.complex, 3, i) == Approx(1.0));
+  const Eigen::VectorXd c0 = piece_centre(net, net.root);
+  std::vector<double> dist;
+  for (std::uint32_t f = 0; f < 8; ++f) dist.push_back((piece_centre(net, f) - c0).norm());
+  std::sort(dist.begin(), dist.end());
+  CHECK(dist[0] == Approx(0.0).margin(1e-12));
+  for (int k = 1; k < 7; ++k) CHECK(dist[k] == Approx(1.0));
+  CHECK(dist[7] == Approx(2.0));
+  CHECK(net.overlaps.empty());
 }
 
 TEST_CASE("24-cell and 120-cell: nets without overlaps", "[net]") {
