@@ -151,6 +151,11 @@ class Unfolder {
       }
       bfs_tree(root, true, parent, hinge);
       if (consider(make_net(root, parent, hinge, NetTree::Dfs, 0))) break;
+      if (greedy_tree(root, parent, hinge, true)) {
+        if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0))) break;
+      } else {
+        ++tried;
+      }
       bool done = false;
       for (int k = 0; k < opt_.random_trees && !done; ++k) {
         random_tree(root, opt_.seed + k, parent, hinge);
@@ -413,7 +418,7 @@ class Unfolder {
 
   // Breadth first, attaching a facet only where it overlaps nothing placed.
   bool greedy_tree(std::uint32_t root, std::vector<long long>& parent,
-                   std::vector<std::uint32_t>& hinge) const {
+                   std::vector<std::uint32_t>& hinge, bool depth_first = false) const {
     parent.assign(nf_, -2);
     hinge.assign(nf_, 0);
     std::vector<Eigen::MatrixXd> L(nf_);
@@ -439,8 +444,11 @@ class Unfolder {
         queue.swap(deferred);
         progress = false;
       }
-      const Candidate cand = queue.front();
-      queue.pop_front();
+      const Candidate cand = depth_first ? queue.back() : queue.front();
+      if (depth_first)
+        queue.pop_back();
+      else
+        queue.pop_front();
       if (parent[cand.child] != -2) continue;
       Eigen::MatrixXd Lr;
       Eigen::VectorXd tr;

@@ -46,7 +46,8 @@ enum class NetTree {
   Greedy,
   /// A random spanning tree (random edge weights, Kruskal), seeded by NetOptions::seed.
   Random,
-  /// The first tree without overlaps among: Bfs, Greedy and Dfs from the root, then
+  /// The first tree without overlaps among: Bfs, Greedy, Dfs and Greedy in depth-first order
+  /// (the candidates taken last in, first out: long strips) from the root, then
   /// NetOptions::random_trees Random trees (seeds seed, seed + 1, ...); when no root is given,
   /// the same again from every other facet in id order, up to NetOptions::max_roots roots.
   /// When none is free of overlaps, the tried tree with the fewest overlapping pairs.
