@@ -121,6 +121,11 @@ class Unfolder {
       }
       return best.overlaps.empty();
     };
+    // A tree with as many overlaps as the best one so far is not counted to the end.
+    auto enough = [&]() -> std::size_t {
+      return have_best && !best.overlaps.empty() ? best.overlaps.size() - 1
+                                                 : std::numeric_limits<std::size_t>::max();
+    };
     for (const std::uint32_t root : roots) {
       if (opt_.tree != NetTree::Auto) {
         std::vector<long long> parent;
@@ -143,23 +148,23 @@ class Unfolder {
       std::vector<long long> parent;
       std::vector<std::uint32_t> hinge;
       bfs_tree(root, false, parent, hinge);
-      if (consider(make_net(root, parent, hinge, NetTree::Bfs, 0))) break;
+      if (consider(make_net(root, parent, hinge, NetTree::Bfs, 0, enough()))) break;
       if (greedy_tree(root, parent, hinge)) {
-        if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0))) break;
+        if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0, enough()))) break;
       } else {
         ++tried;
       }
       bfs_tree(root, true, parent, hinge);
-      if (consider(make_net(root, parent, hinge, NetTree::Dfs, 0))) break;
+      if (consider(make_net(root, parent, hinge, NetTree::Dfs, 0, enough()))) break;
       if (greedy_tree(root, parent, hinge, true)) {
-        if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0))) break;
+        if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0, enough()))) break;
       } else {
         ++tried;
       }
       bool done = false;
       for (int k = 0; k < opt_.random_trees && !done; ++k) {
         random_tree(root, opt_.seed + k, parent, hinge);
-        done = consider(make_net(root, parent, hinge, NetTree::Random, opt_.seed + k));
+        done = consider(make_net(root, parent, hinge, NetTree::Random, opt_.seed + k, enough()));
       }
       if (done) break;
     }
@@ -479,8 +484,11 @@ class Unfolder {
     return placed.size() == nf_;
   }
 
+  // The net of a tree. Counting overlaps stops once there are more than `enough` (the caller
+  // discards such a net: it is no better than one it has).
   Net make_net(std::uint32_t root, const std::vector<long long>& parent,
-               const std::vector<std::uint32_t>& hinge, NetTree tree, std::uint64_t seed) const {
+               const std::vector<std::uint32_t>& hinge, NetTree tree, std::uint64_t seed,
+               std::size_t enough = std::numeric_limits<std::size_t>::max()) const {
     Net net;
     net.root = root;
     net.parent = parent;
@@ -566,8 +574,8 @@ class Unfolder {
       for (std::size_t i = 0; i < fc.size(); ++i) fc[i] = colors[net.boundary_facet[i]];
     }
     // Overlaps.
-    for (std::uint32_t a = 0; a < nf_; ++a)
-      for (std::uint32_t b = a + 1; b < nf_; ++b)
+    for (std::uint32_t a = 0; a < nf_ && net.overlaps.size() <= enough; ++a)
+      for (std::uint32_t b = a + 1; b < nf_ && net.overlaps.size() <= enough; ++b)
         if (pieces_overlap(pieces[a], pieces[b], tol_)) net.overlaps.push_back({a, b});
     return net;
   }
