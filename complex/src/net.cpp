@@ -56,6 +56,7 @@ struct Piece {
   std::vector<Eigen::VectorXd> edges;    // unit edge directions (m = 3)
   Eigen::VectorXd centre;
   double radius = 0.0;
+  bool convex = true;  // no facet plane has vertices on both sides
 };
 
 bool separated(const Piece& a, const Piece& b, const Eigen::VectorXd& axis, double tol) {
@@ -149,18 +150,24 @@ class Unfolder {
       std::vector<std::uint32_t> hinge;
       bfs_tree(root, false, parent, hinge);
       if (consider(make_net(root, parent, hinge, NetTree::Bfs, 0, enough()))) break;
+      // Non-convex cells: the overlap test only clears pieces that a plane separates, which
+      // star cells rarely allow; only the greedy trees (which fail fast) are tried.
+      const bool quick = nonconvex_;
       if (greedy_tree(root, parent, hinge)) {
         if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0, enough()))) break;
       } else {
         ++tried;
       }
-      bfs_tree(root, true, parent, hinge);
-      if (consider(make_net(root, parent, hinge, NetTree::Dfs, 0, enough()))) break;
+      if (!quick) {
+        bfs_tree(root, true, parent, hinge);
+        if (consider(make_net(root, parent, hinge, NetTree::Dfs, 0, enough()))) break;
+      }
       if (greedy_tree(root, parent, hinge, true)) {
         if (consider(make_net(root, parent, hinge, NetTree::Greedy, 0, enough()))) break;
       } else {
         ++tried;
       }
+      if (quick) break;
       bool done = false;
       for (int k = 0; k < opt_.random_trees && !done; ++k) {
         random_tree(root, opt_.seed + k, parent, hinge);
@@ -178,6 +185,7 @@ class Unfolder {
   int n_ = 4, m_ = 3;
   std::uint32_t nf_ = 0;
   double tol_ = 0.0;
+  mutable bool nonconvex_ = false;  // set by make_net when a piece is not convex
   // Per facet: its (neighbour, ridge) pairs in boundary order.
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> nbr_;
   // Per facet: sorted vertex ids, vertex centroid, unit outward normal, the cycles of its own
@@ -339,6 +347,25 @@ class Unfolder {
     pc.centre = pc.points.rowwise().mean();
     for (Eigen::Index i = 0; i < pc.points.cols(); ++i)
       pc.radius = std::max(pc.radius, (pc.points.col(i) - pc.centre).norm());
+    // Convex when every facet plane (through the facet's first vertex) has all vertices on
+    // one side.
+    auto both_sides = [&](const Eigen::VectorXd& n, const Eigen::VectorXd& at) {
+      const Eigen::RowVectorXd h = n.transpose() * (pc.points.colwise() - at);
+      return h.minCoeff() < -tol_ && h.maxCoeff() > tol_;
+    };
+    if (m_ == 3) {
+      std::size_t k = 0;
+      for (const auto& cyc : cycles_[f]) {
+        if (k >= pc.normals.size()) break;
+        if (both_sides(pc.normals[k++], local(cyc[0]))) pc.convex = false;
+      }
+    } else {
+      std::size_t k = 0;
+      for (const auto& e : edges_[f]) {
+        if (k >= pc.normals.size()) break;
+        if (both_sides(pc.normals[k++], local(e[0]))) pc.convex = false;
+      }
+    }
     return pc;
   }
 
@@ -529,6 +556,7 @@ class Unfolder {
     net.vertex_begin.push_back(0);
     for (std::uint32_t f = 0; f < nf_; ++f) {
       pieces[f] = make_piece(f, net.linear[f], net.translation[f], net.origin, net.basis);
+      if (!pieces[f].convex) nonconvex_ = true;
       const std::uint32_t base = net.vertex_begin.back();
       soup.positions.middleCols(base, pieces[f].points.cols()) = pieces[f].points;
       const auto& vs = verts_[f];

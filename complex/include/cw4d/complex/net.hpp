@@ -50,7 +50,9 @@ enum class NetTree {
   /// (the candidates taken last in, first out: long strips) from the root, then
   /// NetOptions::random_trees Random trees (seeds seed, seed + 1, ...); when no root is given,
   /// the same again from every other facet in id order, up to NetOptions::max_roots roots.
-  /// When none is free of overlaps, the tried tree with the fewest overlapping pairs.
+  /// When none is free of overlaps, the tried tree with the fewest overlapping pairs. When a
+  /// facet is not convex (star cells), only Bfs and the two Greedy trees from the root are
+  /// tried: the conservative overlap test rarely clears such pieces.
   Auto,
 };
 
