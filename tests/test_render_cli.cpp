@@ -112,3 +112,27 @@ TEST_CASE("cw4d render rejects bad requests without writing", "[render][cli]") {
   CHECK(miss.err.rfind("cw4d: error: ", 0) == 0);
   CHECK(dir.entries() == 0);
 }
+
+TEST_CASE("cw4d render --mode schlegel draws every edge from outside one cell", "[render][cli]") {
+  TempDir dir;
+  const Result r =
+      run(dir, {"render", "120-cell", "--mode", "schlegel", "--size", "200x150", "-o", "s.png"});
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("1200 edges") != std::string::npos);
+  const auto img = cw4d::render::read_png((dir / "s.png").string());
+  CHECK(img.width == 200);
+  CHECK(img.height == 150);
+  CHECK(drawn_fraction(img) > 0.05);
+  const Result faces = run(
+      dir, {"render", "tesseract", "--mode", "schlegel", "--faces", "--cell", "3", "-o", "t.png"});
+  REQUIRE(faces.code == 0);
+  CHECK(faces.out.find("32 edges and 24 faces, seen from outside cell 3") != std::string::npos);
+  const Result bad =
+      run(dir, {"render", "tesseract", "--mode", "schlegel", "--cell", "8", "-o", "bad.png"});
+  CHECK(bad.code == 1);
+  CHECK(!fs::exists(dir / "bad.png"));
+  const Result flat = run(dir, {"render", "cube:3", "--mode", "schlegel", "-o", "c.png"});
+  CHECK(flat.code == 1);
+  CHECK(!fs::exists(dir / "c.png"));
+}

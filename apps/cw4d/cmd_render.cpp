@@ -10,6 +10,7 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
+#include "cw4d/render/schlegel.hpp"
 #include "cw4d/render/section_view.hpp"
 #include "cw4d/render/stereographic.hpp"
 #include "cw4d/render/voxel_cloud.hpp"
@@ -39,6 +40,8 @@ struct RenderSettings {
   bool no_occlusion = false;
   bool lines = false;
   double separation = 0.0;
+  long long cell = -1;  // schlegel: the front cell, -1: default
+  bool faces = false;   // schlegel: draw the faces too
 };
 
 glm::vec3 parse_vec3(const std::string& text, const std::string& option) {
@@ -109,7 +112,8 @@ void check_pixel_budget(const RenderSettings& s) {
 void run_render(RenderSettings& s) {
   Placement& p = s.placement;
   check_pixel_budget(s);
-  const bool needs_plane = s.mode != "wireframe" && s.mode != "stereographic";
+  const bool needs_plane =
+      s.mode != "wireframe" && s.mode != "stereographic" && s.mode != "schlegel";
   if (p.normal_text.empty()) {
     if (needs_plane) throw InputError("render --mode " + s.mode + " needs --normal");
     p.normal_text = "0,0,0,1";
@@ -192,6 +196,20 @@ void run_render(RenderSettings& s) {
     const render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
     render::write_png(s.output, render::render_wireframe(input.scene, cam, o), background);
     what = std::string("4D wireframe") + (o.occlusion ? " with occlusion" : "");
+  } else if (s.mode == "schlegel") {
+    if (input.is_scene) throw InputError("--mode schlegel draws one MODEL, not a --scene");
+    render::SchlegelOptions o;
+    o.raster = raster_options(s);
+    o.faces = s.faces;
+    if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
+    if (s.projection == "orthographic") o.projection = render::Projection::Orthographic;
+    const SceneObject& obj = input.scene.objects.front();
+    const Complex placed = transformed(*obj.complex, obj.transform);
+    const render::SchlegelProjection sp = render::schlegel_projection(placed, s.cell);
+    render::write_png(s.output, render::render_schlegel(placed, sp, o), background);
+    what = "Schlegel diagram (" + std::to_string(placed.count(1)) + " edges" +
+           (s.faces ? " and " + std::to_string(placed.count(2)) + " faces" : std::string()) +
+           ", seen from outside cell " + std::to_string(sp.cell) + ")";
   } else {  // stereographic
     if (input.is_scene) throw InputError("--mode stereographic draws one MODEL, not a --scene");
     render::StereographicOptions o;
@@ -217,10 +235,11 @@ void add_render_command(CLI::App& app, Commands& commands) {
                                  "4D wireframe, a stereographic view, a stereo pair or a sweep.");
   s->placement.add_options(*cmd);
   cmd->get_option("--normal")->required(false);
-  cmd->add_option("--mode", s->mode,
-                  "section (default), stereo, sheet, frames, cloud, wireframe, stereographic")
-      ->check(CLI::IsMember(
-          {"section", "stereo", "sheet", "frames", "cloud", "wireframe", "stereographic"}));
+  cmd->add_option(
+         "--mode", s->mode,
+         "section (default), stereo, sheet, frames, cloud, wireframe, stereographic, schlegel")
+      ->check(CLI::IsMember({"section", "stereo", "sheet", "frames", "cloud", "wireframe",
+                             "stereographic", "schlegel"}));
   cmd->add_option("--offset", s->offset, "section/stereo: signed distance d of the plane n.x = d")
       ->type_name("D");
   cmd->add_option("-o,--output", s->output, "Output PNG (frames: NAME.png -> NAME_0000.png, ...)")
@@ -260,6 +279,11 @@ void add_render_command(CLI::App& app, Commands& commands) {
   cmd->add_flag("--lines", s->lines, "stereographic: lines instead of tubes");
   cmd->add_option("--separation", s->separation,
                   "stereo: eye distance in section units (default 6% of the section's diameter)");
+  cmd->add_option("--cell", s->cell,
+                  "schlegel: the cell the eye looks through (default: the one facing +w most)")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--faces", s->faces, "schlegel: draw the faces too, translucent");
   cmd->footer(
       "Modes:\n"
       "  section        the section n.x = d, shaded (Blinn-Phong), cell colors (scene colors,\n"
@@ -274,6 +298,9 @@ void add_render_command(CLI::App& app, Commands& commands) {
       "                 its frustum, hidden parts removed (convex objects occlude), colored by 4D\n"
       "                 depth (near orange, far blue), inside the retina cube\n"
       "  stereographic  the edges projected from the 3-sphere, as tubes (or --lines)\n"
+      "  schlegel       the Schlegel diagram: every edge in perspective from just outside one\n"
+      "                 cell (--cell), projected into it; --faces adds translucent faces; no\n"
+      "                 --normal needed\n"
       "--normal is required except for wireframe and stereographic. Output is always PNG (sRGB),\n"
       "written through a temporary file. An empty section exits 5.\n"
       "Examples:\n"
