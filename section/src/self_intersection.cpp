@@ -15,9 +15,10 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 
 // The faces of a surface in flat arrays: face f's cycle is [off[f], off[f+1]) of `pts` (its
-// corners) and of `ids` (its vertex ids, sorted, for the neighbour test).
+// corners), of `cyc` (their vertex ids in cycle order) and of `ids` (the same ids, sorted, for
+// the shared-vertex test).
 struct Faces {
-  std::vector<std::uint32_t> off, ids;
+  std::vector<std::uint32_t> off, cyc, ids;
   std::vector<Vec3> pts, normal, lo, hi;
 };
 
@@ -38,13 +39,25 @@ bool inside(const Faces& F, std::uint32_t f, const Vec3& x) {
   return in;
 }
 
-// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`).
-bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps) {
+// Whether vertex id v is a corner of face g (binary search in its sorted ids).
+bool has_vertex(const Faces& F, std::uint32_t g, std::uint32_t v) {
+  return std::binary_search(F.ids.begin() + F.off[g], F.ids.begin() + F.off[g + 1], v);
+}
+
+// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`). When
+// the faces share vertices (`shared`), the edges of f ending at a corner of g are not tested:
+// such an edge meets g's plane at that corner, on g's boundary, so it cannot pierce g; any
+// crossing of the two faces beyond their shared corners passes through an edge of one of them
+// that ends at no shared corner (their intersection leaves the face it ends in through such an
+// edge).
+bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps, bool shared) {
   const Vec3& g0 = F.pts[F.off[g]];
   const Vec3& gn = F.normal[g];
   const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const Vec3 &p = F.pts[b + i], &q = F.pts[b + (i + 1) % n];
+    const std::uint32_t k = (i + 1) % n;
+    if (shared && (has_vertex(F, g, F.cyc[b + i]) || has_vertex(F, g, F.cyc[b + k]))) continue;
+    const Vec3 &p = F.pts[b + i], &q = F.pts[b + k];
     const double sp = gn.dot(p - g0), sq = gn.dot(q - g0);
     if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) continue;
     const Vec3 x = p + (sp / (sp - sq)) * (q - p);
@@ -63,6 +76,64 @@ bool share_vertex(const Faces& F, std::uint32_t f, std::uint32_t g) {
     else
       ++j;
   }
+  return false;
+}
+
+// Whether x lies inside face f farther than eps from each of its edges.
+bool deep_inside(const Faces& F, std::uint32_t f, const Vec3& x, double eps) {
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 &p = F.pts[b + i], d = F.pts[b + (i + 1) % n] - p;
+    const double t = std::clamp(d.dot(x - p) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    if ((p + t * d - x).norm() <= eps) return false;
+  }
+  return inside(F, f, x);
+}
+
+// Whether vertices u and w follow each other on face f's cycle.
+bool on_cycle(const Faces& F, std::uint32_t f, std::uint32_t u, std::uint32_t w) {
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t x = F.cyc[b + i], y = F.cyc[b + (i + 1) % n];
+    if ((x == u && y == w) || (x == w && y == u)) return true;
+  }
+  return false;
+}
+
+// Faces f and g that are not coplanar and share two vertices u and w meet along the segment uw
+// (it lies in both planes). Unless uw is an edge of both, the faces cross there when its midpoint
+// is on each face: on an edge uw of it, or inside it beyond eps. (In the icosahedral 120-cell
+// {3,5,5/2} two icosahedral cells share the five edges of a pentagon, the vertex figure of both,
+// whose disc lies inside both: they pass through each other there, and a plane cuts them in two
+// polygons crossing along the chord between their cuts of two pentagon edges. No edge of either
+// polygon pierces the other.)
+bool chord_crosses(const Faces& F, std::uint32_t f, std::uint32_t g, double eps) {
+  std::uint32_t shared[8];
+  int k = 0;
+  std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
+  while (i < ie && j < je && k < 8) {
+    if (F.ids[i] == F.ids[j])
+      shared[k++] = F.ids[i], ++i, ++j;
+    else if (F.ids[i] < F.ids[j])
+      ++i;
+    else
+      ++j;
+  }
+  if (k < 2 || F.normal[f].cross(F.normal[g]).norm() <= tol::self_intersection_rel) return false;
+  auto corner = [&](std::uint32_t h, std::uint32_t v) -> const Vec3& {
+    std::uint32_t c = F.off[h];
+    while (F.cyc[c] != v) ++c;
+    return F.pts[c];
+  };
+  for (int a = 0; a < k; ++a)
+    for (int c = a + 1; c < k; ++c) {
+      const std::uint32_t u = shared[a], w = shared[c];
+      const bool edge_f = on_cycle(F, f, u, w), edge_g = on_cycle(F, g, u, w);
+      if (edge_f && edge_g) continue;
+      const Vec3 m = 0.5 * (corner(f, u) + corner(f, w));
+      if ((edge_f || deep_inside(F, f, m, eps)) && (edge_g || deep_inside(F, g, m, eps)))
+        return true;
+    }
   return false;
 }
 
@@ -110,6 +181,7 @@ bool self_intersects(const Complex& surface) {
   const Eigen::MatrixXd& P = surface.positions();
   F.off.resize(nf + 1);
   F.off[0] = 0;
+  F.cyc.clear();
   F.ids.clear();
   F.pts.clear();
   F.normal.resize(nf);
@@ -124,6 +196,7 @@ bool self_intersects(const Complex& surface) {
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const auto e = edges.ids(ids[i]);
       const std::uint32_t v = signs[i] > 0 ? e[0] : e[1];
+      F.cyc.push_back(v);
       F.ids.push_back(v);
       F.pts.push_back(P.col(v));
     }
@@ -146,8 +219,8 @@ bool self_intersects(const Complex& surface) {
   // Pairs of faces whose boxes (grown by eps) overlap, through a uniform grid of cells of about
   // the mean face extent: each face is listed in the cells its box covers, and a pair is
   // tested in the one cell holding the lower corner of the two boxes' intersection. Faces
-  // sharing a vertex are neighbours of a surface and are not compared (a crossing between them
-  // is not detected).
+  // sharing vertices are compared too: by their edges away from the shared corners, and along
+  // the segments joining two shared corners (chord_crosses).
   double mean = 0.0;
   for (std::uint32_t f = 0; f < nf; ++f) mean += (F.hi[f] - F.lo[f]).maxCoeff();
   mean = nf > 0 ? mean / nf : 0.0;
@@ -210,8 +283,9 @@ bool self_intersects(const Complex& surface) {
              glo.x() > fhi.x() + eps || glo.y() > fhi.y() + eps || glo.z() > fhi.z() + eps);
   };
   auto test = [&](std::uint32_t f, std::uint32_t q) {
-    if (share_vertex(F, f, q)) return false;
-    return edge_pierces(F, f, q, eps) || edge_pierces(F, q, f, eps);
+    const bool shared = share_vertex(F, f, q);
+    return edge_pierces(F, f, q, eps, shared) || edge_pierces(F, q, f, eps, shared) ||
+           (shared && chord_crosses(F, f, q, eps));
   };
   for (std::size_t c = 0; c < ncell; ++c)
     for (std::uint32_t i = cell_off[c]; i < cell_off[c + 1]; ++i) {
