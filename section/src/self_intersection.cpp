@@ -39,44 +39,47 @@ bool inside(const Faces& F, std::uint32_t f, const Vec3& x) {
   return in;
 }
 
-// Whether vertex id v is a corner of face g (binary search in its sorted ids).
-bool has_vertex(const Faces& F, std::uint32_t g, std::uint32_t v) {
-  return std::binary_search(F.ids.begin() + F.off[g], F.ids.begin() + F.off[g + 1], v);
-}
-
-// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`). When
-// the faces share vertices (`shared`), the edges of f ending at a corner of g are not tested:
-// such an edge meets g's plane at that corner, on g's boundary, so it cannot pierce g; any
-// crossing of the two faces beyond their shared corners passes through an edge of one of them
-// that ends at no shared corner (their intersection leaves the face it ends in through such an
-// edge).
-bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps, bool shared) {
+// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`). The
+// edges of f ending at one of the k vertices `shared` with g are not tested: such an edge meets
+// g's plane at that corner, on g's boundary, so it cannot pierce g; a crossing of the two faces
+// beyond their shared corners passes through an edge of one of them that ends at no shared
+// corner (their intersection leaves the face it ends in through such an edge), or runs along
+// the segment between two shared corners (chord_crosses).
+bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps,
+                  const std::uint32_t* shared, int k) {
   const Vec3& g0 = F.pts[F.off[g]];
   const Vec3& gn = F.normal[g];
   const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  auto is_shared = [&](std::uint32_t v) { return std::find(shared, shared + k, v) != shared + k; };
+  // (edge i runs from corner i to corner j = i + 1; each corner's distance is computed once)
+  double sp = gn.dot(F.pts[b] - g0);
   for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t k = (i + 1) % n;
-    if (shared && (has_vertex(F, g, F.cyc[b + i]) || has_vertex(F, g, F.cyc[b + k]))) continue;
-    const Vec3 &p = F.pts[b + i], &q = F.pts[b + k];
-    const double sp = gn.dot(p - g0), sq = gn.dot(q - g0);
-    if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) continue;
-    const Vec3 x = p + (sp / (sp - sq)) * (q - p);
+    const std::uint32_t j = i + 1 == n ? 0 : i + 1;
+    const Vec3 &p = F.pts[b + i], &q = F.pts[b + j];
+    const double sq = gn.dot(q - g0);
+    const double s = sp;
+    sp = sq;
+    if (!((s > eps && sq < -eps) || (s < -eps && sq > eps))) continue;
+    if (k > 0 && (is_shared(F.cyc[b + i]) || is_shared(F.cyc[b + j]))) continue;
+    const Vec3 x = p + (s / (s - sq)) * (q - p);
     if (inside(F, g, x)) return true;
   }
   return false;
 }
 
-// Whether the sorted id lists of faces f and g share a vertex.
-bool share_vertex(const Faces& F, std::uint32_t f, std::uint32_t g) {
+// The vertices faces f and g share (up to 8, from their sorted id lists) into `out`; their count.
+int shared_vertices(const Faces& F, std::uint32_t f, std::uint32_t g, std::uint32_t* out) {
+  int k = 0;
   std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
-  while (i < ie && j < je) {
-    if (F.ids[i] == F.ids[j]) return true;
-    if (F.ids[i] < F.ids[j])
+  while (i < ie && j < je && k < 8) {
+    if (F.ids[i] == F.ids[j])
+      out[k++] = F.ids[i], ++i, ++j;
+    else if (F.ids[i] < F.ids[j])
       ++i;
     else
       ++j;
   }
-  return false;
+  return k;
 }
 
 // Whether x lies inside face f farther than eps from each of its edges.
@@ -107,19 +110,12 @@ bool on_cycle(const Faces& F, std::uint32_t f, std::uint32_t u, std::uint32_t w)
 // whose disc lies inside both: they pass through each other there, and a plane cuts them in two
 // polygons crossing along the chord between their cuts of two pentagon edges. No edge of either
 // polygon pierces the other.)
-bool chord_crosses(const Faces& F, std::uint32_t f, std::uint32_t g, double eps) {
-  std::uint32_t shared[8];
-  int k = 0;
-  std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
-  while (i < ie && j < je && k < 8) {
-    if (F.ids[i] == F.ids[j])
-      shared[k++] = F.ids[i], ++i, ++j;
-    else if (F.ids[i] < F.ids[j])
-      ++i;
-    else
-      ++j;
-  }
-  if (k < 2 || F.normal[f].cross(F.normal[g]).norm() <= tol::self_intersection_rel) return false;
+bool chord_crosses(const Faces& F, std::uint32_t f, std::uint32_t g, double eps,
+                   const std::uint32_t* shared, int k) {
+  if (k < 2 ||
+      (k == 2 && on_cycle(F, f, shared[0], shared[1]) && on_cycle(F, g, shared[0], shared[1])))
+    return false;  // (a common edge, the usual neighbours)
+  if (F.normal[f].cross(F.normal[g]).norm() <= tol::self_intersection_rel) return false;
   auto corner = [&](std::uint32_t h, std::uint32_t v) -> const Vec3& {
     std::uint32_t c = F.off[h];
     while (F.cyc[c] != v) ++c;
@@ -283,9 +279,10 @@ bool self_intersects(const Complex& surface) {
              glo.x() > fhi.x() + eps || glo.y() > fhi.y() + eps || glo.z() > fhi.z() + eps);
   };
   auto test = [&](std::uint32_t f, std::uint32_t q) {
-    const bool shared = share_vertex(F, f, q);
-    return edge_pierces(F, f, q, eps, shared) || edge_pierces(F, q, f, eps, shared) ||
-           (shared && chord_crosses(F, f, q, eps));
+    std::uint32_t shared[8];
+    const int k = shared_vertices(F, f, q, shared);
+    return edge_pierces(F, f, q, eps, shared, k) || edge_pierces(F, q, f, eps, shared, k) ||
+           chord_crosses(F, f, q, eps, shared, k);
   };
   for (std::size_t c = 0; c < ncell; ++c)
     for (std::uint32_t i = cell_off[c]; i < cell_off[c + 1]; ++i) {
