@@ -20,6 +20,7 @@ using Vec3 = Eigen::Vector3d;
 struct Faces {
   std::vector<std::uint32_t> off, cyc, ids;
   std::vector<Vec3> pts, normal, lo, hi;
+  std::vector<char> convex;  // strictly_convex
 };
 
 // Strict interior of face f's planar polygon, tested in the coordinate plane that drops the
@@ -181,6 +182,7 @@ bool self_intersects(const Complex& surface) {
   F.ids.clear();
   F.pts.clear();
   F.normal.resize(nf);
+  F.convex.resize(nf);
   F.lo.resize(nf);
   F.hi.resize(nf);
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
@@ -200,7 +202,8 @@ bool self_intersects(const Complex& surface) {
     F.off[f + 1] = b + n;
     Vec3 area = Vec3::Zero();
     for (std::uint32_t i = 0; i < n; ++i) area += F.pts[b + i].cross(F.pts[b + (i + 1) % n]);
-    if (!strictly_convex(&F.pts[b], n, area) && !is_simple_face(surface, f)) return true;
+    F.convex[f] = strictly_convex(&F.pts[b], n, area);
+    if (!F.convex[f] && !is_simple_face(surface, f)) return true;
     F.normal[f] = area.normalized();
     Vec3 flo = F.pts[b], fhi = F.pts[b];
     for (std::uint32_t i = 1; i < n; ++i)
@@ -281,6 +284,10 @@ bool self_intersects(const Complex& surface) {
   auto test = [&](std::uint32_t f, std::uint32_t q) {
     std::uint32_t shared[8];
     const int k = shared_vertices(F, f, q, shared);
+    // Two convex faces with a common edge meet only in it (the line of their planes' meeting).
+    if (k == 2 && F.convex[f] && F.convex[q] && on_cycle(F, f, shared[0], shared[1]) &&
+        on_cycle(F, q, shared[0], shared[1]))
+      return false;
     return edge_pierces(F, f, q, eps, shared, k) || edge_pierces(F, q, f, eps, shared, k) ||
            chord_crosses(F, f, q, eps, shared, k);
   };
