@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -184,4 +185,32 @@ TEST_CASE("self_intersects agrees with exact triangle tests on non-convex embedd
     CHECK(t.oracle == 0);
     CHECK(t.agree == t.sections);
   }
+}
+
+// Hand-made pairs of faces (3D OFF, not closed): crossings the old neighbour rule (faces sharing
+// a vertex are not compared) missed, and neighbours that do not cross.
+TEST_CASE("self_intersects finds faces crossing beyond the vertices they share",
+          "[self_intersection][hand]") {
+  auto off = [](const std::string& text) {
+    std::istringstream in(text);
+    return read_off(in, "hand");
+  };
+  // Two squares in the planes y = 0 and x = 0 sharing their diagonal from (0,0,-1) to (0,0,1).
+  const Complex chord =
+      off("OFF\n6 2 0\n0 0 -1\n1 0 0\n0 0 1\n-1 0 0\n0 1 0\n0 -1 0\n4 0 1 2 3\n4 0 4 2 5\n");
+  // Two triangles sharing the vertex 0, in the planes z = 0 and y = 0, crossing along the x axis.
+  const Complex fan = off("OFF\n5 2 0\n0 0 0\n2 -1 0\n2 1 0\n3 0 -1\n3 0 1\n3 0 1 2\n3 0 3 4\n");
+  // The same triangles with the second turned to z < 0 only: they meet in the vertex alone.
+  const Complex touch = off("OFF\n5 2 0\n0 0 0\n2 -1 0\n2 1 0\n3 0 -1\n3 0 -2\n3 0 1 2\n3 0 3 4\n");
+  // Two squares folded along a common edge (a book): neighbours that do not cross.
+  const Complex book =
+      off("OFF\n6 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 0 1\n0 0 1\n4 0 1 2 3\n4 1 0 5 4\n");
+  CHECK(oracle_self_intersects(chord));
+  CHECK(self_intersects(chord));
+  CHECK(oracle_self_intersects(fan));
+  CHECK(self_intersects(fan));
+  CHECK_FALSE(oracle_self_intersects(touch));
+  CHECK_FALSE(self_intersects(touch));
+  CHECK_FALSE(oracle_self_intersects(book));
+  CHECK_FALSE(self_intersects(book));
 }
