@@ -14,6 +14,8 @@
 #include "cw4d/render/stereographic.hpp"
 #include "cw4d/render/voxel_cloud.hpp"
 #include "cw4d/render/wireframe4d.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
 
 namespace cw4d::cli {
 
@@ -39,7 +41,36 @@ struct RenderSettings {
   bool no_occlusion = false;
   bool lines = false;
   double separation = 0.0;
+  std::vector<std::string> textures;
+  std::string light_mode = "3d";
+  std::vector<std::string> lights4;
+  std::string method = "cw";
 };
+
+// "X,Y,Z,W" (directional, towards the light) or "point:X,Y,Z,W[:REFERENCE]".
+render::Light4 parse_light4(const std::string& text) {
+  render::Light4 light;
+  std::string rest = text;
+  if (rest.rfind("point:", 0) == 0) {
+    light.kind = render::Light4::Kind::Point;
+    rest = rest.substr(6);
+    const auto colon = rest.find(':');
+    if (colon != std::string::npos) {
+      const auto r = parse_vector(rest.substr(colon + 1), "--light4 reference");
+      if (r.size() != 1 || !(r[0] > 0.0) || !std::isfinite(r[0]))
+        throw InputError("--light4 '" + text + "': the reference distance must be > 0");
+      light.reference = static_cast<float>(r[0]);
+      rest = rest.substr(0, colon);
+    }
+  }
+  const auto v = parse_vector(rest, "--light4");
+  if (v.size() != 4) throw InputError("--light4 '" + text + "' needs 4 components X,Y,Z,W");
+  light.vector = glm::vec4(static_cast<float>(v[0]), static_cast<float>(v[1]),
+                           static_cast<float>(v[2]), static_cast<float>(v[3]));
+  if (light.kind == render::Light4::Kind::Directional && light.vector == glm::vec4(0.0f))
+    throw InputError("--light4 '" + text + "': a direction must not be the zero vector");
+  return light;
+}
 
 glm::vec3 parse_vec3(const std::string& text, const std::string& option) {
   const auto v = parse_vector(text, option);
@@ -71,6 +102,11 @@ render::SectionViewOptions section_options(const RenderSettings& s) {
   if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
   o.edges = s.edges;
   o.cull_back_faces = s.cull;
+  for (const auto& t : s.textures) render::add_texture(o.textures, t);
+  o.light_4d = s.light_mode == "4d" || !s.lights4.empty();
+  for (const auto& l : s.lights4) o.lights4.push_back(parse_light4(l));
+  // With several lights the intensities share one unit, like the studio's key and fill.
+  for (auto& l : o.lights4) l.color /= static_cast<float>(o.lights4.size());
   return o;
 }
 
@@ -125,13 +161,37 @@ void run_render(RenderSettings& s) {
   const glm::vec3 background(1.0f);
   std::string what;
 
-  if (s.mode == "section" || s.mode == "stereo") {
+  if (s.method == "tet" && s.mode != "section")
+    throw InputError("--method tet draws --mode section only");
+  if (s.method == "tet") {
+    // The tetrahedral path: the model's tetrahedra cut one by one, each triangle carrying the
+    // UVW and normals interpolated at its corners.
+    if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
+    if (s.edges) throw InputError("--edges draws the polygon outlines of --method cw only");
+    const SceneObject& obj = input.scene.objects.front();
+    const TetSection ts =
+        slice_tets(tetrahedralize(*obj.complex), p.plane(s.offset), obj.transform);
+    if (ts.empty())
+      throw EmptySection("the plane misses " + p.input_label() + " (it meets " +
+                         offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
+                         s.output + "'");
+    auto o = section_options(s);
+    const render::TriangleMesh mesh =
+        render::soup_mesh(ts.positions, ts.normals, ts.uvw, ts.cell, obj, &o.textures);
+    render::FrameSphere f = render::bounding_frame(mesh);
+    const float aspect = static_cast<float>(o.raster.width) / static_cast<float>(o.raster.height);
+    const render::Camera camera = render::Camera::framing(
+        f.centre, std::max(f.radius, 1e-6f), o.view_from, aspect, o.projection, o.fov_y_degrees);
+    render::write_png(s.output, render::render_mesh(mesh, {}, ts.frame, o, camera), background);
+    what = "section (tetrahedral path, " + std::to_string(ts.triangle_count()) + " triangles)";
+  } else if (s.mode == "section" || s.mode == "stereo") {
     const Cut c = cut(input, p.plane(s.offset));
     if (c.section.empty())
       throw EmptySection("the plane misses " + p.input_label() + " (it meets " +
                          offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
                          s.output + "'");
-    const auto o = section_options(s);
+    auto o = section_options(s);
+    o.source = &input.scene;
     const render::Image img =
         s.mode == "section"
             ? render::render_section(c.section, o, single_model(input))
@@ -144,6 +204,7 @@ void run_render(RenderSettings& s) {
     const Hyperplane plane0 = p.plane(0.0);
     const auto [lo, hi] = render::scene_extent(input.scene, plane0.normal);
     auto o = section_options(s);
+    o.source = &input.scene;
     o.frame = render::scene_frame(input.scene, HyperplaneFrame(plane0));
     std::vector<render::Image> cells;
     const auto offsets = render::layer_offsets(lo, hi, layers);
@@ -258,6 +319,23 @@ void add_render_command(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1.0, 170.0));
   cmd->add_flag("--no-occlusion", s->no_occlusion, "wireframe: draw hidden edges too");
   cmd->add_flag("--lines", s->lines, "stereographic: lines instead of tubes");
+  cmd->add_option("--texture", s->textures,
+                  "section/stereo/sheet/frames: a 3D texture sampled through the cells' UVW: "
+                  "checker[:S], grid[:S], wood[:S], marble[:S] (S repeats per cell box) or "
+                  "volume:DIR|PATTERN[:S] (PNG slices); prefix object=I: or cell=I: for one "
+                  "scene object or cell (repeatable)")
+      ->type_name("SPEC");
+  cmd->add_option("--light-mode", s->light_mode,
+                  "section/stereo/sheet/frames: 3d (default: lights in the section's space) or "
+                  "4d (lights in 4D, each face lit by its cell's 4D normal)")
+      ->check(CLI::IsMember({"3d", "4d"}));
+  cmd->add_option("--light4", s->lights4,
+                  "A 4D light (implies --light-mode 4d; repeatable): X,Y,Z,W towards a "
+                  "directional light, or point:X,Y,Z,W[:R] (intensity (R/r)^3, R = 1)")
+      ->type_name("SPEC");
+  cmd->add_option("--method", s->method,
+                  "section: cw (default: the CW slicer) or tet (cut the model's tetrahedra)")
+      ->check(CLI::IsMember({"cw", "tet"}));
   cmd->add_option("--separation", s->separation,
                   "stereo: eye distance in section units (default 6% of the section's diameter)");
   cmd->footer(
@@ -274,6 +352,8 @@ void add_render_command(CLI::App& app, Commands& commands) {
       "                 its frustum, hidden parts removed (convex objects occlude), colored by 4D\n"
       "                 depth (near orange, far blue), inside the retina cube\n"
       "  stereographic  the edges projected from the 3-sphere, as tubes (or --lines)\n"
+      "Sections (section, stereo, sheet, frames) take --texture (3D textures through the cells'\n"
+      "UVW) and --light-mode 4d / --light4 (lights in 4D, faces lit by their cells' 4D normals).\n"
       "--normal is required except for wireframe and stereographic. Output is always PNG (sRGB),\n"
       "written through a temporary file. An empty section exits 5.\n"
       "Examples:\n"
