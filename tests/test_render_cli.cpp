@@ -135,6 +135,55 @@ TEST_CASE("cw4d render textures sections and lights them in 4D", "[render][cli]"
   CHECK(bad.entries() == 0);
 }
 
+TEST_CASE("cw4d render: view-aligned clouds, stereo pairs, sections in wireframes, eye inside",
+          "[render][cli]") {
+  TempDir dir;
+  struct Case {
+    std::vector<std::string> args;
+    int width;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--view", "1,0,0.05"},
+       120,
+       "stacked along u"},
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--stack", "s"},
+       120,
+       "stacked along s"},
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--stereo"}, 240, "stereo pair"},
+      {{"24-cell", "--mode", "wireframe", "--stereo"}, 240, "stereo pair"},
+      {{"24-cell", "--mode", "wireframe", "--section", "--offset", "0.3"}, 120, "its section"},
+      {{"tesseract", "--mode", "wireframe", "--eye4-at", "0.2,0.1,0,0", "--look4", "0,0,0,1",
+        "--fov4", "120"},
+       120,
+       "4D wireframe"},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string out = "v" + std::to_string(k++) + ".png";
+    std::vector<std::string> args = {"render"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    args.insert(args.end(), {"--size", "120x90", "--samples", "1", "--layers", "12", "-o", out});
+    const Result r = run(dir, args);
+    CAPTURE(c.args, r.err, r.out);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find(c.says) != std::string::npos);
+    const auto img = cw4d::render::read_png((dir / out).string());
+    CHECK(img.width == c.width);
+    CHECK(drawn_fraction(img) > 0.02);
+  }
+  TempDir bad;
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--stereo", "-o", "a.png"}).code ==
+        1);
+  CHECK(run(bad, {"render", "tesseract", "--mode", "wireframe", "--eye4-at", "0,0,0,1", "--look4",
+                  "0,0,0,1", "-o", "a.png"})
+            .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--mode", "cloud", "--normal", "0,0,0,1", "--stack", "w",
+                  "-o", "a.png"})
+            .code == 1);
+  CHECK(bad.entries() == 0);
+}
+
 TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
   TempDir dir;
   const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1",

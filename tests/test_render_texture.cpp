@@ -26,6 +26,8 @@
 #include "cw4d/render/raster.hpp"
 #include "cw4d/render/section_view.hpp"
 #include "cw4d/render/texture.hpp"
+#include "cw4d/render/voxel_cloud.hpp"
+#include "cw4d/render/wireframe4d.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
@@ -338,4 +340,141 @@ TEST_CASE("4D light needs the section's source", "[render][light4]") {
   o.light_4d = false;
   add_texture(o.textures, "checker");
   CHECK_THROWS_AS(render_section(s, o), InputError);
+}
+
+namespace {
+
+// Mean |second difference| of the luminance over white, along y (vertical = true) or x, inside
+// the box where `mask` is well covered (shrunk by 3 pixels): the energy of stripes across that
+// direction, gaps between layers included.
+double stripe_energy(const Image& img, const Image& mask, bool vertical) {
+  int x0 = img.width, x1 = -1, y0 = img.height, y1 = -1;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (mask.at(x, y).a > 0.3f) {
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+  auto lum = [&](int x, int y) {
+    const glm::vec4 p = img.at(x, y);
+    return luminance(p) + 3.0f * (1.0f - p.a);
+  };
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (int y = y0 + 3; y <= y1 - 3; ++y)
+    for (int x = x0 + 3; x <= x1 - 3; ++x) {
+      const float a = vertical ? lum(x, y - 1) : lum(x - 1, y);
+      const float c = vertical ? lum(x, y + 1) : lum(x + 1, y);
+      sum += std::abs(a - 2.0f * lum(x, y) + c);
+      ++n;
+    }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("a voxel cloud seen at a grazing angle shows no layer stripes", "[render][cloud]") {
+  // Seen from (1, 0, 0.05) the s layers are edge-on: stacked along s they make horizontal
+  // stripes (s is the picture's vertical); stacked along u, the axis the view follows, none.
+  Scene scene = scene_of(make_cube(4), AffineTransform::rotation(4, 0, 3, 0.35) *
+                                           AffineTransform::rotation(4, 1, 2, 0.3));
+  scene.objects[0].color = Rgba{0.3f, 0.6f, 0.9f, 0.6f};
+  CloudOptions o;
+  o.raster.width = 240;
+  o.raster.height = 200;
+  o.raster.samples_per_axis = 1;
+  o.layers = 24;
+  o.view_from = glm::vec3(1.0f, 0.0f, 0.05f);
+  o.flatten = false;
+  const Eigen::VectorXd n = vec({0, 0, 1, 1}).normalized();
+  CHECK(cloud_stack_axis(o.view_from) == 0);
+  const Image follow = render_voxel_cloud(scene, n, o);
+  o.stack_axis = 2;
+  const Image fixed = render_voxel_cloud(scene, n, o);
+  const double follow_v = stripe_energy(follow, follow, true);
+  const double follow_h = stripe_energy(follow, follow, false);
+  const double fixed_v = stripe_energy(fixed, follow, true);
+  CAPTURE(follow_v, follow_h, fixed_v);
+  CHECK(fixed_v > 4.0 * follow_v);          // the metric sees the edge-on layers
+  CHECK(follow_v < 2.0 * follow_h + 1e-3);  // no direction of stripes stands out
+  // The opacity follows the actual spacing: four times the layers, the same cloud.
+  o.stack_axis = -1;
+  o.layers = 96;
+  const Image fine = render_voxel_cloud(scene, n, o);
+  CHECK(fine.coverage() == Approx(follow.coverage()).epsilon(0.03));
+}
+
+TEST_CASE("stereo pairs of clouds and wireframes: two views, the same with no angle",
+          "[render][stereo]") {
+  Scene scene = scene_of(make_orthoplex(4), AffineTransform::rotation(4, 0, 3, 0.3));
+  scene.objects[0].color = Rgba{0.8f, 0.4f, 0.2f, 0.7f};
+  CloudOptions co;
+  co.raster.width = 96;
+  co.raster.height = 72;
+  co.raster.samples_per_axis = 1;
+  co.layers = 12;
+  const Eigen::VectorXd n = vec({0, 0, 0, 1});
+  const Image single = render_voxel_cloud(scene, n, co);
+  WireframeOptions wo;
+  wo.raster = co.raster;
+  const Camera4 cam = frame_scene(scene, vec({0.3, 0.2, 0.1, -1}));
+  const Image wire = render_wireframe(scene, cam, wo);
+  auto half = [](const Image& pair, int side) {
+    Image h(pair.width / 2, pair.height);
+    for (int y = 0; y < h.height; ++y)
+      for (int x = 0; x < h.width; ++x) h.at(x, y) = pair.at(x + side * h.width, y);
+    return h;
+  };
+  auto same = [](const Image& a, const Image& b) { return a.pixels == b.pixels; };
+  const Image c0 = render_cloud_stereo_pair(scene, n, co, 0.0f);
+  const Image w0 = render_wireframe_stereo_pair(scene, cam, wo, 0.0f);
+  REQUIRE(c0.width == 2 * co.raster.width);
+  CHECK(same(half(c0, 0), single));
+  CHECK(same(half(c0, 1), single));
+  CHECK(same(half(w0, 0), wire));
+  CHECK(same(half(w0, 1), wire));
+  const Image c6 = render_cloud_stereo_pair(scene, n, co, 6.0f);
+  const Image w6 = render_wireframe_stereo_pair(scene, cam, wo, 6.0f);
+  CHECK_FALSE(same(half(c6, 0), half(c6, 1)));
+  CHECK_FALSE(same(half(w6, 0), half(w6, 1)));
+}
+
+TEST_CASE("a wireframe with its section draws the section where its corners project",
+          "[render][wireframe]") {
+  const Complex model = make_orthoplex(4);
+  const Scene scene = scene_of(model, AffineTransform::rotation(4, 1, 3, 0.4));
+  const Section s =
+      section(model, Hyperplane::from(vec({0, 0, 0, 1}), 0.2), scene.objects[0].transform);
+  REQUIRE_FALSE(s.empty());
+  const Camera4 cam = frame_scene(scene, vec({0.3, 0.2, 0.1, -1}));
+  WireframeOptions wo;
+  wo.raster.width = 200;
+  wo.raster.height = 160;
+  wo.raster.samples_per_axis = 1;
+  const Image plain = render_wireframe(scene, cam, wo);
+  wo.section = &s;
+  const Image with = render_wireframe(scene, cam, wo);
+  // The screen box of the section's corners, through the 4D camera and the retina's 3D camera.
+  const Camera cam3 = Camera::framing(glm::vec3(0.0f), std::sqrt(3.0f), wo.view_from, 200.0f / 160,
+                                      wo.projection, 30.0f, 1.02f, glm::vec3(0, 1, 0));
+  const View view = cam3.view(200.0f / 160);
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  for (std::uint32_t v = 0; v < s.complex.count(0); ++v) {
+    const Eigen::VectorXd r = cam.project(s.world_position(v));
+    const glm::vec4 c = view.clip_from_world * glm::vec4(r(0), r(1), r(2), 1.0f);
+    const double px = (c.x / c.w * 0.5 + 0.5) * 200, py = (0.5 - 0.5 * c.y / c.w) * 160;
+    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+  }
+  std::size_t changed = 0, outside = 0;
+  for (int y = 0; y < 160; ++y)
+    for (int x = 0; x < 200; ++x) {
+      if (glm::length(with.at(x, y) - plain.at(x, y)) < 1e-4f) continue;
+      ++changed;
+      if (x + 1 < x0 || x > x1 + 1 || y + 1 < y0 || y > y1 + 1) ++outside;
+    }
+  CAPTURE(changed, outside, x0, x1, y0, y1);
+  CHECK(changed > 0.3 * (x1 - x0) * (y1 - y0));
+  CHECK(outside == 0);
 }

@@ -45,6 +45,11 @@ struct RenderSettings {
   std::string light_mode = "3d";
   std::vector<std::string> lights4;
   std::string method = "cw";
+  std::string stack = "auto";
+  bool stereo = false;
+  bool with_section = false;
+  std::string eye4_at_text;
+  std::string look4_text;
 };
 
 // "X,Y,Z,W" (directional, towards the light) or "point:X,Y,Z,W[:REFERENCE]".
@@ -129,7 +134,9 @@ constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
 void check_pixel_budget(const RenderSettings& s) {
   const render::RasterOptions r = raster_options(s);
   const int layers = s.layers > 0 ? s.layers : (s.mode == "sheet" ? 16 : 24);
-  const double images = s.mode == "sheet" ? 2.0 * layers : s.mode == "stereo" ? 4.0 : 1.0;
+  const double images = s.mode == "sheet"                  ? 2.0 * layers
+                        : (s.mode == "stereo" || s.stereo) ? 4.0
+                                                           : 1.0;
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError(
@@ -161,6 +168,12 @@ void run_render(RenderSettings& s) {
   const glm::vec3 background(1.0f);
   std::string what;
 
+  if (s.stereo && s.mode != "cloud" && s.mode != "wireframe")
+    throw InputError("--stereo is for --mode cloud and wireframe (sections: --mode stereo)");
+  if (s.with_section && s.mode != "wireframe")
+    throw InputError("--section draws the section inside a --mode wireframe picture");
+  if ((!s.eye4_at_text.empty() || !s.look4_text.empty()) && s.mode != "wireframe")
+    throw InputError("--eye4-at and --look4 place the camera of --mode wireframe");
   if (s.method == "tet" && s.mode != "section")
     throw InputError("--method tet draws --mode section only");
   if (s.method == "tet") {
@@ -233,10 +246,16 @@ void run_render(RenderSettings& s) {
     o.opacity = s.opacity;
     o.cell_palette = !input.is_scene;
     if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
+    o.stack_axis = s.stack == "u" ? 0 : s.stack == "v" ? 1 : s.stack == "s" ? 2 : -1;
     Eigen::VectorXd n(4);
     for (int i = 0; i < 4; ++i) n(i) = p.normal[i];
-    render::write_png(s.output, render::render_voxel_cloud(input.scene, n, o), background);
-    what = "voxel cloud of " + std::to_string(o.layers) + " layers";
+    render::write_png(s.output,
+                      s.stereo ? render::render_cloud_stereo_pair(input.scene, n, o)
+                               : render::render_voxel_cloud(input.scene, n, o),
+                      background);
+    const int axis = render::cloud_stack_axis(o.view_from, o.stack_axis);
+    what = std::string(s.stereo ? "stereo pair (left eye left) of a " : "") + "voxel cloud of " +
+           std::to_string(o.layers) + " layers stacked along " + "uvs"[axis];
   } else if (s.mode == "wireframe") {
     render::WireframeOptions o;
     o.raster = raster_options(s);
@@ -250,9 +269,41 @@ void run_render(RenderSettings& s) {
     if (from.cwiseAbs().maxCoeff() == 0.0) throw InputError("--eye4 must not be the zero vector");
     const int e = std::ilogb(from.cwiseAbs().maxCoeff());
     from = from.unaryExpr([e](double x) { return std::scalbn(x, -e); }).eval();
-    const render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
-    render::write_png(s.output, render::render_wireframe(input.scene, cam, o), background);
-    what = std::string("4D wireframe") + (o.occlusion ? " with occlusion" : "");
+    render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
+    if (!s.eye4_at_text.empty() || !s.look4_text.empty()) {
+      // A camera placed at a point (inside a polytope, say) looking at --look4 (default: the
+      // centre the framed camera looks at).
+      auto point4 = [](const std::string& text, const std::string& option) {
+        const auto v = parse_vector(text, option);
+        if (v.size() != 4) throw InputError(option + " takes 4 components X,Y,Z,W");
+        return Eigen::VectorXd(Eigen::Map<const Eigen::Vector4d>(v.data()));
+      };
+      Eigen::VectorXd look(4);
+      if (s.look4_text.empty()) {  // the centre of the scene's bounding box
+        for (int i = 0; i < 4; ++i) {
+          const auto [lo, hi] = render::scene_extent(input.scene, Eigen::Vector4d::Unit(i));
+          look(i) = 0.5 * (lo + hi);
+        }
+      } else {
+        look = point4(s.look4_text, "--look4");
+      }
+      const Eigen::VectorXd eye =
+          s.eye4_at_text.empty() ? cam.eye : point4(s.eye4_at_text, "--eye4-at");
+      if ((look - eye).norm() == 0.0)
+        throw InputError("--eye4-at must differ from the point the camera looks at (--look4)");
+      cam = render::Camera4::look_at(eye, look, s.fov4);
+    }
+    Section sec;
+    if (s.with_section) {
+      sec = cut(input, p.plane(s.offset)).section;
+      o.section = &sec;
+    }
+    render::write_png(s.output,
+                      s.stereo ? render::render_wireframe_stereo_pair(input.scene, cam, o)
+                               : render::render_wireframe(input.scene, cam, o),
+                      background);
+    what = std::string(s.stereo ? "stereo pair (left eye left) of a " : "") + "4D wireframe" +
+           (o.occlusion ? " with occlusion" : "") + (s.with_section ? " and its section" : "");
   } else {  // stereographic
     if (input.is_scene) throw InputError("--mode stereographic draws one MODEL, not a --scene");
     render::StereographicOptions o;
@@ -333,6 +384,23 @@ void add_render_command(CLI::App& app, Commands& commands) {
                   "A 4D light (implies --light-mode 4d; repeatable): X,Y,Z,W towards a "
                   "directional light, or point:X,Y,Z,W[:R] (intensity (R/r)^3, R = 1)")
       ->type_name("SPEC");
+  cmd->add_option("--stack", s->stack,
+                  "cloud: the volume axis the layers are stacked along: auto (default: the one "
+                  "most aligned with --view, no stripes at grazing views), u, v or s")
+      ->check(CLI::IsMember({"auto", "u", "v", "s"}));
+  cmd->add_flag("--stereo", s->stereo,
+                "cloud, wireframe: a side-by-side stereo pair (left eye left), the views turned "
+                "by -/+3 degrees");
+  cmd->add_flag("--section", s->with_section,
+                "wireframe: also draw the section n.x = d (--normal, default 0,0,0,1; --offset) "
+                "inside the wireframe, translucent");
+  cmd->add_option("--eye4-at", s->eye4_at_text,
+                  "wireframe: put the 4D camera at this point (it may be inside a polytope: "
+                  "then only that polytope's inside is seen), looking at --look4")
+      ->type_name("X,Y,Z,W");
+  cmd->add_option("--look4", s->look4_text,
+                  "wireframe: the point the 4D camera looks at (default: the scene's centre)")
+      ->type_name("X,Y,Z,W");
   cmd->add_option("--method", s->method,
                   "section: cw (default: the CW slicer) or tet (cut the model's tetrahedra)")
       ->check(CLI::IsMember({"cw", "tet"}));

@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/render/color.hpp"
+#include "cw4d/render/section_view.hpp"
 #include "cw4d/render/tolerances.hpp"
 
 namespace cw4d::render {
@@ -347,9 +349,59 @@ Image render_wireframe(const Scene& scene, const Camera4& camera, const Wirefram
     bd.line_width = 1.0f;
     r.draw_lines(box, view, bd);
   }
+  if (o.section && !o.section->empty()) {
+    // The section's faces in 4D, through the 4D camera to the retina.
+    const Section& sec = *o.section;
+    const TriangleMesh flat = section_mesh(sec);
+    TriangleMesh mesh;
+    const double near_depth = camera.near_plane;
+    auto depth_of = [&](const Eigen::VectorXd& x) {
+      return (x - camera.eye).dot(camera.frame.col(camera.dim() - 1));
+    };
+    for (const auto& t : flat.triangles) {
+      Vertex v[3];
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3 p = flat.vertices[t[k]].position;
+        const Eigen::VectorXd x = sec.frame.lift(Eigen::Vector3d(p.x, p.y, p.z));
+        if (!(depth_of(x) > near_depth)) {
+          inside = false;
+          break;
+        }
+        v[k].position = to_glm3(camera.project(x));
+        v[k].color = flat.vertices[t[k]].color;
+        v[k].color.a *= o.section_opacity;
+      }
+      if (!inside) continue;
+      const glm::vec3 n = glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
+      const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+      for (auto& vk : v) {
+        vk.normal = n;
+        mesh.vertices.push_back(vk);
+      }
+      mesh.triangles.push_back({first, first + 1, first + 2});
+    }
+    DrawOptions sd;
+    sd.blend = Blend::Over;
+    r.draw(mesh, view, Lighting::studio(cam3), sd);
+  }
   Image img = r.render();
   img.flatten(o.background);
   return img;
+}
+
+Image render_wireframe_stereo_pair(const Scene& scene, const Camera4& camera,
+                                   const WireframeOptions& o, float angle_degrees) {
+  Image pair(2 * o.raster.width, o.raster.height, glm::vec4(o.background, 1.0f));
+  for (int side = 0; side < 2; ++side) {
+    const float a = glm::radians((side == 0 ? -0.5f : 0.5f) * angle_degrees);
+    WireframeOptions one = o;
+    // About the retina's up axis (y), as the eyes of a viewer standing upright.
+    one.view_from = glm::vec3(glm::rotate(glm::mat4(1.0f), a, glm::vec3(0.0f, 1.0f, 0.0f)) *
+                              glm::vec4(o.view_from, 0.0f));
+    pair.blit(render_wireframe(scene, camera, one), side * o.raster.width, 0);
+  }
+  return pair;
 }
 
 }  // namespace cw4d::render
