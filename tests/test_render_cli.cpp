@@ -184,6 +184,41 @@ TEST_CASE("cw4d render: view-aligned clouds, stereo pairs, sections in wireframe
   CHECK(bad.entries() == 0);
 }
 
+TEST_CASE("cw4d render --animate writes an animated WebP", "[render][cli]") {
+  TempDir dir;
+  for (const std::string kind : {"sweep", "rotate:xw", "orbit"}) {
+    // (A normal with changing sections: libwebp folds identical frames into one.)
+    const Result r =
+        run(dir, {"render", "tesseract", "--normal", "1,1,1,1", "--offset", "0.2", "--animate",
+                  kind, "--frames", "5", "--size", "64x48", "-o", "a.webp"});
+    CAPTURE(kind, r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("5 frames") != std::string::npos);
+    const std::string bytes = cw4d::test::read_text(dir / "a.webp");
+    // RIFF....WEBP with the animation chunk of the extended format.
+    REQUIRE(bytes.size() > 40);
+    CHECK(bytes.compare(0, 4, "RIFF") == 0);
+    CHECK(bytes.compare(8, 4, "WEBP") == 0);
+    CHECK(bytes.find("ANIM") != std::string::npos);
+    CHECK(bytes.find("ANMF") != std::string::npos);
+  }
+  CHECK(dir.entries() == 1);  // no temporary file left
+  TempDir bad;
+  CHECK(
+      run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "spin", "-o", "a.webp"})
+          .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "rotate:xx", "-o",
+                  "a.webp"})
+            .code == 1);
+  CHECK(
+      run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "sweep", "-o", "a.png"})
+          .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", "7", "--animate",
+                  "orbit", "-o", "a.webp"})
+            .code == 5);
+  CHECK(bad.entries() == 0);
+}
+
 TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
   TempDir dir;
   const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1",

@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numbers>
 
 #include "cli.hpp"
 #include "cw4d/complex/transform.hpp"
+#include "cw4d/render/animation.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/section_view.hpp"
@@ -50,6 +52,9 @@ struct RenderSettings {
   bool with_section = false;
   std::string eye4_at_text;
   std::string look4_text;
+  std::string animate;
+  int frames = 36;
+  int frame_ms = 80;
 };
 
 // "X,Y,Z,W" (directional, towards the light) or "point:X,Y,Z,W[:REFERENCE]".
@@ -127,6 +132,80 @@ const Complex* single_model(const Input& input) {
   return input.is_scene ? nullptr : input.models().front();
 }
 
+// The axis pair of "rotate:xw" (axes x, y, z, w).
+std::pair<int, int> rotation_plane(const std::string& spec) {
+  const std::string plane = spec.size() > 7 ? spec.substr(7) : std::string();
+  const std::string axes = "xyzw";
+  if (plane.size() != 2 || axes.find(plane[0]) == std::string::npos ||
+      axes.find(plane[1]) == std::string::npos || plane[0] == plane[1])
+    throw InputError("--animate rotate:PLANE takes two different axes of x, y, z, w (xw), not '" +
+                     spec + "'");
+  return {static_cast<int>(axes.find(plane[0])), static_cast<int>(axes.find(plane[1]))};
+}
+
+// An animated WebP of the section: a sweep of the plane across the input, a full turn of every
+// object in one plane about the origin, or the 3D camera orbiting the section's up axis.
+std::string run_animation(const RenderSettings& s, const Input& input, Placement& p) {
+  const bool sweep = s.animate == "sweep", orbit = s.animate == "orbit";
+  std::pair<int, int> plane{0, 3};
+  if (!sweep && !orbit) {
+    if (s.animate.rfind("rotate:", 0) != 0)
+      throw InputError("--animate takes sweep, rotate:PLANE or orbit, not '" + s.animate + "'");
+    plane = rotation_plane(s.animate);
+  }
+  const Hyperplane plane0 = p.plane(0.0);
+  const HyperplaneFrame frame0(plane0);
+  auto o = section_options(s);
+  std::vector<double> offsets(static_cast<std::size_t>(s.frames), s.offset);
+  if (sweep) {
+    const auto [lo, hi] = render::scene_extent(input.scene, plane0.normal);
+    offsets = render::layer_offsets(lo, hi, s.frames);
+    o.frame = render::scene_frame(input.scene, frame0);
+  } else if (!orbit) {
+    // Every turned position lies in the ball about the origin through the farthest vertex.
+    double radius = 0.0;
+    for (const auto& obj : input.scene.objects) {
+      const Eigen::MatrixXd w = (obj.transform.linear() * obj.complex->positions()).colwise() +
+                                obj.transform.translation();
+      if (w.cols() > 0) radius = std::max(radius, w.colwise().norm().maxCoeff());
+    }
+    const Eigen::VectorXd c = frame0.to_plane(Eigen::VectorXd::Zero(4));
+    o.frame.centre =
+        glm::vec3(static_cast<float>(c(0)), static_cast<float>(c(1)), static_cast<float>(c(2)));
+    o.frame.radius = static_cast<float>(std::max(radius, 1e-9));
+  } else {
+    o.frame = render::scene_frame(input.scene, HyperplaneFrame(p.plane(s.offset)));
+  }
+  const glm::vec3 view0 = o.view_from;
+  std::vector<render::Image8> frames;
+  std::size_t empty = 0;
+  for (int i = 0; i < s.frames; ++i) {
+    const double turn = 2.0 * std::numbers::pi * i / s.frames;
+    Input in = input;
+    if (!sweep && !orbit)
+      for (auto& obj : in.scene.objects)
+        obj.transform =
+            AffineTransform::rotation(4, plane.first, plane.second, turn) * obj.transform;
+    if (orbit) {
+      const float c = static_cast<float>(std::cos(turn)), sn = static_cast<float>(std::sin(turn));
+      o.view_from = glm::vec3(c * view0.x - sn * view0.y, sn * view0.x + c * view0.y, view0.z);
+    }
+    o.source = &in.scene;
+    const Cut c = cut(in, p.plane(offsets[static_cast<std::size_t>(i)]));
+    if (c.section.empty()) ++empty;
+    frames.push_back(
+        render::to_srgb8(render::render_section(c.section, o, single_model(in)), glm::vec3(1.0f)));
+  }
+  if (empty == frames.size())
+    throw EmptySection("the plane misses " + p.input_label() + " in every frame (it meets " +
+                       offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
+                       s.output + "'");
+  render::AnimationOptions ao;
+  ao.frame_ms = s.frame_ms;
+  render::write_webp_animation(s.output, frames, ao);
+  return "animation (" + std::to_string(s.frames) + " frames, " + s.animate + ")";
+}
+
 // The pixels a render holds at once (linear RGBA floats, 16 bytes each): a contact sheet keeps
 // every layer and the sheet, a stereo pair both views and the pair.
 constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
@@ -158,8 +237,15 @@ void run_render(RenderSettings& s) {
     p.normal_text = "0,0,0,1";
   }
   p.parse("render");
-  if (lower_extension(s.output) != ".png")
+  if (!s.animate.empty()) {
+    if (s.mode != "section")
+      throw InputError("--animate draws --mode section (sweep, rotate:PLANE or orbit)");
+    if (lower_extension(s.output) != ".webp")
+      throw InputError("--animate writes an animated WebP: give -o NAME.webp, not '" + s.output +
+                       "'");
+  } else if (lower_extension(s.output) != ".png") {
     throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
+  }
   const Input input = load_input(p);
   if (input.dim() != 4)
     throw InputError("render draws 4D models; " + p.input_label() + " lives in R^" +
@@ -176,7 +262,10 @@ void run_render(RenderSettings& s) {
     throw InputError("--eye4-at and --look4 place the camera of --mode wireframe");
   if (s.method == "tet" && s.mode != "section")
     throw InputError("--method tet draws --mode section only");
-  if (s.method == "tet") {
+  if (!s.animate.empty()) {
+    if (s.method == "tet") throw InputError("--animate cuts with --method cw");
+    what = run_animation(s, input, p);
+  } else if (s.method == "tet") {
     // The tetrahedral path: the model's tetrahedra cut one by one, each triangle carrying the
     // UVW and normals interpolated at its corners.
     if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
@@ -401,6 +490,15 @@ void add_render_command(CLI::App& app, Commands& commands) {
   cmd->add_option("--look4", s->look4_text,
                   "wireframe: the point the 4D camera looks at (default: the scene's centre)")
       ->type_name("X,Y,Z,W");
+  cmd->add_option("--animate", s->animate,
+                  "section: write an animated WebP (-o NAME.webp) of a sweep across the input, "
+                  "rotate:PLANE (every object turned once about the origin, e.g. rotate:xw) or "
+                  "orbit (the 3D camera once around the section)")
+      ->type_name("KIND");
+  cmd->add_option("--frames", s->frames, "--animate: number of frames (36)")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--frame-ms", s->frame_ms, "--animate: milliseconds per frame (80)")
+      ->check(CLI::Range(1, 60000));
   cmd->add_option("--method", s->method,
                   "section: cw (default: the CW slicer) or tet (cut the model's tetrahedra)")
       ->check(CLI::IsMember({"cw", "tet"}));
