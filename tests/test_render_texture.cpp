@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
@@ -532,4 +533,48 @@ TEST_CASE("animated WebP: libwebp's decoder reads back every frame", "[render][a
   CHECK_THROWS_AS(encode_webp_animation({}), InputError);
   frames[1].width = 16;
   CHECK_THROWS_AS(encode_webp_animation(frames), InputError);
+}
+
+TEST_CASE("bounding-sphere pre-tests leave the visible edges of a crowded scene unchanged",
+          "[render][occlusion]") {
+  // 120 small polytopes scattered in a box (seeded), seen from outside and from inside one:
+  // the pre-tests only skip occluders that cannot hide anything, so the segments are the same
+  // as with every occluder tried.
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<double> pos(-6.0, 6.0), size(0.2, 0.7), angle(0.0, 3.0);
+  auto cube = std::make_shared<const Complex>(make_cube(4));
+  auto cross = std::make_shared<const Complex>(make_orthoplex(4));
+  Scene scene;
+  for (int i = 0; i < 120; ++i) {
+    SceneObject o;
+    o.model = "test";
+    o.complex = i % 2 ? cube : cross;
+    o.transform = AffineTransform::translation(vec({pos(rng), pos(rng), pos(rng), pos(rng)})) *
+                  AffineTransform::rotation(4, i % 4, (i + 1) % 4, angle(rng)) *
+                  AffineTransform::scale(4, size(rng));
+    scene.objects.push_back(o);
+  }
+  const Eigen::VectorXd inside = scene.objects[0].transform.translation();
+  for (const Camera4& cam : {frame_scene(scene, vec({0.3, 0.2, 0.1, -1})),
+                             Camera4::look_at(inside, inside + vec({0, 0, 0, 1}), 120.0)}) {
+    const auto fast = visible_edges(scene, cam, true, render::tol::shadow_margin_rel, true);
+    const auto full = visible_edges(scene, cam, true, render::tol::shadow_margin_rel, false);
+    REQUIRE(fast.size() == full.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < fast.size(); ++i) {
+      CHECK(fast[i].object == full[i].object);
+      CHECK(fast[i].edge == full[i].edge);
+      worst =
+          std::max(worst, std::max((fast[i].a - full[i].a).norm(), (fast[i].b - full[i].b).norm()));
+    }
+    CHECK(worst < 1e-12);
+    // Something is hidden, something is shown: the scene does exercise the culling.
+    const auto none = visible_edges(scene, cam, false);
+    double shown = 0.0, all = 0.0;
+    for (const auto& s : fast) shown += (s.b - s.a).norm();
+    for (const auto& s : none) all += (s.b - s.a).norm();
+    CAPTURE(shown, all);
+    CHECK(shown > 0.0);
+    CHECK(shown < 0.99 * all);
+  }
 }

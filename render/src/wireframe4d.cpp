@@ -248,8 +248,27 @@ Eigen::VectorXd Camera4::project(const Eigen::VectorXd& x) const {
   return q.head(n - 1) / (q(n - 1) * t);
 }
 
+namespace {
+
+// Whether anything in the ball (m, h) can lie in the shadow of the ball (c, r) seen from `eye`:
+// the cone of rays from the eye through the ball, beyond its nearest point. Conservative: true
+// when unsure (an eye inside either ball).
+bool may_be_shadowed(const Eigen::VectorXd& eye, const Eigen::VectorXd& c, double r,
+                     const Eigen::VectorXd& m, double h) {
+  const Eigen::VectorXd to_c = c - eye, to_m = m - eye;
+  const double dc = to_c.norm(), dm = to_m.norm();
+  const double slack = 1e-9 * (dc + dm + r + h);
+  if (dc <= r + slack || dm <= h + slack) return true;
+  if (dm + h < dc - r - slack) return false;  // wholly in front of the occluder
+  const double alpha = std::asin(std::min(1.0, r / dc)), beta = std::asin(std::min(1.0, h / dm));
+  const double cos_angle = std::clamp(to_c.dot(to_m) / (dc * dm), -1.0, 1.0);
+  return std::acos(cos_angle) <= alpha + beta + 1e-9;
+}
+
+}  // namespace
+
 std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& camera, bool occlusion,
-                                          double margin_rel) {
+                                          double margin_rel, bool bounding_pretests) {
   if (camera.dim() != scene.dim())
     throw InputError("the camera lives in R^" + std::to_string(camera.dim()) + ", the scene in R^" +
                      std::to_string(scene.dim()));
@@ -273,15 +292,42 @@ std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& cam
                           : ConvexOccluder::Shadow{});
   const auto frustum = camera.frustum();
   std::vector<VisibleSegment> out;
+  std::vector<std::uint32_t> candidates;  // occluders that may hide part of object i
   for (std::uint32_t i = 0; i < worlds.size(); ++i) {
     const Complex& w = worlds[i];
     if (w.top_rank() < 1) continue;
+    // Bounding-sphere pre-tests: an occluder whose shadow cone misses the object's ball (or an
+    // edge's ball) cannot hide it, so the exact culling runs only where it may matter.
+    candidates.clear();
+    Eigen::VectorXd centre = Eigen::VectorXd::Zero(camera.dim());
+    double radius = 0.0;
+    if (bounding_pretests && w.count(0) > 0) {
+      const auto& p = w.positions();
+      centre = 0.5 * (p.rowwise().minCoeff() + p.rowwise().maxCoeff());
+      radius = (p.colwise() - centre).colwise().norm().maxCoeff();
+    }
+    for (std::uint32_t j = 0; j < occluders.size(); ++j) {
+      if (!occluders[j]) continue;
+      if (bounding_pretests && !shadows[j].eye_inside && j != i &&
+          !may_be_shadowed(camera.eye, occluders[j]->centre(), occluders[j]->radius(), centre,
+                           radius))
+        continue;
+      candidates.push_back(j);
+    }
     for (std::uint32_t e = 0; e < w.count(1); ++e) {
       const auto [ta, hb] = w.edge(e);
       const Eigen::VectorXd a = w.position(ta), b = w.position(hb);
       Intervals vis = clip_to_halfspaces(a, b, frustum);
-      for (std::size_t j = 0; j < occluders.size() && !vis.empty(); ++j)
-        if (occluders[j]) vis = occluders[j]->cull(a, b, vis, shadows[j]);
+      if (vis.empty()) continue;
+      const Eigen::VectorXd mid = 0.5 * (a + b);
+      const double half = 0.5 * (b - a).norm();
+      for (std::size_t k = 0; k < candidates.size() && !vis.empty(); ++k) {
+        const std::uint32_t j = candidates[k];
+        if (bounding_pretests && !shadows[j].eye_inside &&
+            !may_be_shadowed(camera.eye, occluders[j]->centre(), occluders[j]->radius(), mid, half))
+          continue;
+        vis = occluders[j]->cull(a, b, vis, shadows[j]);
+      }
       for (const auto& [t0, t1] : vis) out.push_back({a + t0 * (b - a), a + t1 * (b - a), i, e});
     }
   }

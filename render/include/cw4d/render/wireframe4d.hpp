@@ -109,10 +109,14 @@ struct VisibleSegment {
 
 /// The visible pieces of every edge of every object: clipped to the frustum, then culled by
 /// every object that is convex (non-convex objects are drawn but hide nothing).
-/// `margin_rel` shrinks each shadow by that fraction of the occluder's radius.
+/// `margin_rel` shrinks each shadow by that fraction of the occluder's radius. With
+/// `bounding_pretests`, an occluder is skipped for an object or an edge whose bounding ball
+/// its shadow cone (from the eye through its bounding ball) misses: the same result, with the
+/// exact culling run only where it may hide something (scenes of hundreds of objects).
 std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& camera,
                                           bool occlusion = true,
-                                          double margin_rel = tol::shadow_margin_rel);
+                                          double margin_rel = tol::shadow_margin_rel,
+                                          bool bounding_pretests = true);
 
 struct WireframeOptions {
   RasterOptions raster;
