@@ -254,6 +254,13 @@ void run_render(RenderSettings& s) {
   const glm::vec3 background(1.0f);
   std::string what;
 
+  const bool sections =
+      s.mode == "section" || s.mode == "stereo" || s.mode == "sheet" || s.mode == "frames";
+  if (!sections && (!s.textures.empty() || s.light_mode == "4d" || !s.lights4.empty()))
+    throw InputError(
+        "--texture, --light-mode 4d and --light4 draw sections (--mode section, "
+        "stereo, sheet, frames), not --mode " +
+        s.mode);
   if (s.stereo && s.mode != "cloud" && s.mode != "wireframe")
     throw InputError("--stereo is for --mode cloud and wireframe (sections: --mode stereo)");
   if (s.with_section && s.mode != "wireframe")
