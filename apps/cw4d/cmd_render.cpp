@@ -213,9 +213,8 @@ constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
 void check_pixel_budget(const RenderSettings& s) {
   const render::RasterOptions r = raster_options(s);
   const int layers = s.layers > 0 ? s.layers : (s.mode == "sheet" ? 16 : 24);
-  const double images = s.mode == "sheet"                  ? 2.0 * layers
-                        : (s.mode == "stereo" || s.stereo) ? 4.0
-                                                           : 1.0;
+  double images = s.mode == "sheet" ? 2.0 * layers : (s.mode == "stereo" || s.stereo) ? 4.0 : 1.0;
+  if (!s.animate.empty()) images = 1.0 + s.frames * 3.0 / 16.0;  // the 8-bit RGB frames kept
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError(
@@ -225,7 +224,10 @@ void check_pixel_budget(const RenderSettings& s) {
         " pixels in memory (" +
         std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
         " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
-        ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
+        ": give a smaller --size" +
+        (s.mode == "sheet"    ? " or fewer --layers"
+         : !s.animate.empty() ? " or fewer --frames"
+                              : ""));
 }
 
 void run_render(RenderSettings& s) {
@@ -527,13 +529,15 @@ void add_render_command(CLI::App& app, Commands& commands) {
       "  stereographic  the edges projected from the 3-sphere, as tubes (or --lines)\n"
       "Sections (section, stereo, sheet, frames) take --texture (3D textures through the cells'\n"
       "UVW) and --light-mode 4d / --light4 (lights in 4D, faces lit by their cells' 4D normals).\n"
-      "--normal is required except for wireframe and stereographic. Output is always PNG (sRGB),\n"
-      "written through a temporary file. An empty section exits 5.\n"
+      "--normal is required except for wireframe and stereographic. Output is PNG (sRGB;\n"
+      "--animate: an animated WebP), written through a temporary file. An empty section exits 5.\n"
       "Examples:\n"
       "  cw4d render 24-cell --normal 1,1,1,1 --offset 0.3 --edges -o section.png\n"
       "  cw4d render tesseract --mode cloud --normal 0,0,1,1 --rotate xw:20 -o cloud.png\n"
       "  cw4d render 120-cell --mode wireframe -o wire.png\n"
       "  cw4d render 24-cell --mode stereographic --rotate xw:10 -o stereo.png\n"
+      "  cw4d render 24-cell --normal 1,1,1,1 --offset 0.3 --texture marble:2 -o marble.png\n"
+      "  cw4d render tesseract --normal 0,0,0,1 --offset 0.3 --animate rotate:xw -o turn.webp\n"
       "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_render(*s); }});
 }
