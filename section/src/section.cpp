@@ -1,5 +1,6 @@
 #include "cw4d/section/section.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -61,6 +62,164 @@ std::vector<std::size_t> order_along_line(std::size_t n, At at) {
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
   return order;
+}
+
+// The ON band made consistent with the geometry. Counting an ON vertex v as lying on the plane
+// moves every crossing of the plane with the line of an edge (v, b) to v: by |t| |b - v| with
+// t = s_v / (s_v - s_b). For a vertex of an element that is nearly parallel to the plane that
+// distance is not small (a plane tilted 1e-12 rad from a cell of the 120-cell would snap every
+// vertex within 0.2 of the cut line of that cell, bending the cell's cut polygon off its
+// plane). So v stays ON only while the move is within the weld distance along every edge to a
+// vertex that is not ON; otherwise it takes the sign of its own value s_v (exact: plane_value),
+// which may in turn move its ON neighbours: settled to the fixed point, in vertex order. What
+// remains ON is either exactly on the plane or within rounding of it with every crossing near,
+// so the section is the exact section of the given plane up to the weld distance, except that
+// a plane within the ON band of a whole element (every vertex of a cell, say, and steep edges
+// leaving it) contains that element.
+void settle_on_band(const Complex& model, const std::vector<double>& s, std::vector<Side>& side,
+                    double weld) {
+  const std::size_t nv = model.count(0), ne = model.top_rank() >= 1 ? model.count(1) : 0;
+  std::vector<std::uint32_t> start(nv + 1, 0), adj(2 * ne);
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    const auto [a, b] = model.edge(e);
+    ++start[a + 1];
+    ++start[b + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    const auto [a, b] = model.edge(e);
+    adj[fill[a]++] = b;
+    adj[fill[b]++] = a;
+  }
+  const auto& p = model.positions();
+  std::vector<std::uint32_t> work;
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (side[v] == Side::On) work.push_back(v);
+  std::reverse(work.begin(), work.end());  // popped in vertex order
+  while (!work.empty()) {
+    const std::uint32_t v = work.back();
+    work.pop_back();
+    if (side[v] != Side::On || s[v] == 0.0) continue;
+    bool far = false;
+    for (std::uint32_t i = start[v]; i < start[v + 1] && !far; ++i) {
+      const std::uint32_t b = adj[i];
+      if (side[b] == Side::On) continue;
+      // |t| |b - v| > weld, without dividing (|s_b| exceeds the band, |s_v| does not).
+      far = std::abs(s[v]) * (p.col(b) - p.col(v)).norm() > weld * std::abs(s[v] - s[b]);
+    }
+    if (!far) continue;
+    side[v] = s[v] > 0.0 ? Side::Positive : Side::Negative;
+    for (std::uint32_t i = start[v]; i < start[v + 1]; ++i)
+      if (side[adj[i]] == Side::On) work.push_back(adj[i]);
+  }
+}
+
+// Crossings on edges nearly parallel to the plane, placed on the model's cells. A crossing at
+// t = s_a / (s_a - s_b) moves along its edge by |b - a| / |s_a - s_b| times any error in s_a or
+// s_b, and the vertices of a cell are coplanar only up to their rounding: for a plane tilted
+// 1e-12 rad from a cell of the 120-cell, rounding of 1e-15 moves the crossings on that cell's
+// edges by 1e-3, so its cut polygon is neither planar nor convex. So where sin(edge, plane) =
+// |s_a - s_b| / (|n| |b - a|) is below tol::near_parallel_edge, the crossing is instead the
+// point of the plane nearest (least squares, each equation normalised to distance within the
+// plane) to the hyperplanes of the model's facets that contain the edge, each the facet's
+// outward normal N through the mean of N . x over its vertices. Every such crossing of one
+// facet then satisfies that facet's one plane equation, so the facet's cut is planar, and the
+// section is the cut of the polytope of those facet hyperplanes. The equations are formed with
+// the normal split as N = sigma n + Delta (Delta exact for N close to +-n), so a cell nearly
+// parallel to the plane keeps its tilt to full relative precision. A crossing whose placement
+// would leave its edge keeps t.
+struct PlaneFrame {
+  Eigen::VectorXd unit, origin;  // unit normal, a point of the plane
+  double offset = 0.0;
+  Eigen::MatrixXd basis;  // n x (n-1)
+};
+
+void place_near_parallel_crossings(const Complex& model, const Eigen::VectorXd& nm, double dm,
+                                   const std::vector<double>& s, Section& sec,
+                                   Eigen::MatrixXd& positions, const Hyperplane* world,
+                                   std::vector<std::pair<std::uint32_t, Eigen::VectorXd>>* coords) {
+  const int n = model.ambient_dim();
+  const int fr = n - 1;  // facet rank
+  if (!model.has_facet_normals() || model.top_rank() < fr || fr < 2) return;
+  const auto& p = model.positions();
+  const double len_n = nm.norm();
+  std::vector<std::uint32_t> todo;
+  for (std::uint32_t v = 0; v < sec.vertex_source.size(); ++v) {
+    const VertexSource& src = sec.vertex_source[v];
+    if (src.rank != 1) continue;
+    const auto [a, b] = model.edge(src.element);
+    const double len = (p.col(b) - p.col(a)).norm();
+    if (std::abs(s[a] - s[b]) < tol::near_parallel_edge * len_n * len) todo.push_back(v);
+  }
+  if (todo.empty()) return;
+  // Facets containing each edge: edges -> faces -> ... -> facets.
+  std::vector<std::vector<std::uint32_t>> up(model.count(1));
+  for (std::uint32_t e = 0; e < up.size(); ++e) up[e] = {e};
+  for (int r = 2; r <= fr; ++r) {
+    const Incidence& table = model.boundary(r);
+    std::vector<std::vector<std::uint32_t>> parents(model.count(r - 1));
+    for (std::uint32_t x = 0; x < table.size(); ++x)
+      for (auto id : table.ids(x)) parents[id].push_back(x);
+    for (auto& list : up) {
+      std::vector<std::uint32_t> next;
+      for (auto id : list) next.insert(next.end(), parents[id].begin(), parents[id].end());
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      list = std::move(next);
+    }
+  }
+  // The section's own frame when the model is not moved (world != nullptr), so that z below
+  // are the section coordinates themselves: the point o + B z of the frame is the point of the
+  // section, and an error in z is an error of the same size in the section.
+  PlaneFrame frame;
+  frame.unit = world ? world->normal : Eigen::VectorXd(nm / len_n);
+  frame.offset = world ? world->offset : dm / len_n;
+  frame.origin = frame.offset * frame.unit;
+  frame.basis = hyperplane_basis(frame.unit);
+  std::unordered_map<std::uint32_t, std::pair<Eigen::VectorXd, double>> rows;  // unit row, rhs
+  auto row_of = [&](std::uint32_t f) -> const std::pair<Eigen::VectorXd, double>& {
+    auto [it, fresh] = rows.try_emplace(f);
+    if (!fresh) return it->second;
+    const Eigen::VectorXd nf = model.facet_normals().col(f);
+    const auto verts = model.vertices_of(fr, f);
+    double level = 0.0;
+    for (auto v : verts) level += nf.dot(p.col(v));
+    level /= static_cast<double>(verts.size());
+    // B^T nf to full relative precision (each entry a compensated dot product): for a facet
+    // nearly parallel to the plane it is tiny, and its direction decides the trace.
+    Eigen::VectorXd u(n - 1);
+    for (int j = 0; j < n - 1; ++j) u[j] = plane_value(frame.basis.col(j), 0.0, nf.data());
+    // nf . (origin + B z) = level  <=>  u . z = level - nf . origin
+    const double rhs = -plane_value(nf, level, frame.origin.data());
+    const double w = u.norm();
+    it->second = w > 0.0 ? std::make_pair(Eigen::VectorXd(u / w), rhs / w)
+                         : std::make_pair(Eigen::VectorXd(Eigen::VectorXd::Zero(n - 1)), 0.0);
+    return it->second;
+  };
+  for (const std::uint32_t v : todo) {
+    VertexSource& src = sec.vertex_source[v];
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n - 1, n - 1);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n - 1);
+    for (const std::uint32_t f : up[src.element]) {
+      const auto& [u, r] = row_of(f);
+      m += u * u.transpose();
+      rhs += r * u;
+    }
+    // The facets' traces must pin the point: a well-conditioned system, else t stays.
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
+    if (eig.eigenvalues().minCoeff() < 1e-6) continue;
+    const Eigen::VectorXd z = eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                                    (eig.eigenvectors().transpose() * rhs));
+    const Eigen::VectorXd x = frame.origin + frame.basis * z;
+    const auto [a, b] = model.edge(src.element);
+    const Eigen::VectorXd ab = p.col(b) - p.col(a);
+    const double t = (x - p.col(a)).dot(ab) / ab.squaredNorm();
+    if (!(t > 0.0 && t < 1.0)) continue;
+    positions.col(v) = x;
+    src.t = t;
+    if (coords) coords->push_back({v, z});
+  }
 }
 
 struct CutResult {
@@ -443,9 +602,22 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   }
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   std::vector<Side> side(nv);
-  bool any_on = false, any_pos = false, any_neg = false;
+  bool any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
     side[v] = classify_side(s[v], tolerance);
+    any_on |= side[v] == Side::On;
+  }
+  // Crossing points within the weld distance of a model vertex (relative to the model's size)
+  // merge into it, and ON vertices stay ON only where that moves no crossing farther.
+  double weld = 0.0;
+  if (nv > 0) {
+    const Bounds box = bounds(model);
+    weld = tol::weld_rel * (box.max - box.min).norm();
+  }
+  if (any_on) settle_on_band(model, s, side, weld);
+  bool any_pos = false, any_neg = false;
+  any_on = false;
+  for (std::size_t v = 0; v < nv; ++v) {
     any_on |= side[v] == Side::On;
     any_pos |= side[v] == Side::Positive;
     any_neg |= side[v] == Side::Negative;
@@ -454,10 +626,6 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   cut.section.complex = Complex(n - 1);
   cut.model_positions.resize(n, 0);
   if ((any_pos && any_neg) || any_on) {
-    // Crossing points within the weld distance of a model vertex (relative to the model's
-    // size) merge into it; only needed when the plane meets the model.
-    const Bounds box = bounds(model);
-    const double weld = tol::weld_rel * (box.max - box.min).norm();
     cut = Cutter(model, s, side, +1, any_on, weld).run();
     if (cut.model_positions.cols() == 0 && any_on)
       cut = Cutter(model, s, side, -1, true, weld).run();
@@ -469,6 +637,11 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
       cut.model_positions.resize(n, 0);
     }
   }
+  const bool unmoved = xf.linear().isIdentity(0.0) && xf.translation().isZero(0.0);
+  std::vector<std::pair<std::uint32_t, Eigen::VectorXd>> placed;
+  if (cut.model_positions.cols() > 0)
+    place_near_parallel_crossings(model, nm, dm, s, cut.section, cut.model_positions,
+                                  unmoved ? &plane : nullptr, unmoved ? &placed : nullptr);
   Section sec = std::move(cut.section);
   const Eigen::MatrixXd& model_pos = cut.model_positions;
   sec.frame = HyperplaneFrame(plane);
@@ -476,6 +649,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   // Section vertices: model -> world -> plane coordinates.
   Eigen::MatrixXd world = (xf.linear() * model_pos).colwise() + xf.translation();
   Eigen::MatrixXd coords = sec.frame.basis.transpose() * (world.colwise() - sec.frame.origin());
+  for (const auto& [v, z] : placed) coords.col(v) = z;
   sec.complex.set_positions(std::move(coords));
   // Orientation. The cut of a facet C carries the orientation "(m, frame) positive in C" (m
   // the plane normal projected into C), and the cut's boundary is -sum(sign * cut of child).

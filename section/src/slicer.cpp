@@ -586,6 +586,7 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
   }
   Placement pl;
   pl.set(m, plane, xf);
+  near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
   pl.set_offset(m, plane.offset);
   if (options.reuse_topology && reuse(m, pl, options, out)) {
     ++cached_count_;
@@ -784,6 +785,7 @@ bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const
   const double t = s_[a] / (s_[a] - s_[b]);
   const double len = m.edge_length_[e];
   *t_out = t;
+  if (std::abs(s_[a] - s_[b]) < near_parallel_ * len) return false;  // (section_general places it)
   return !(t * len <= m.weld_ || (1.0 - t) * len <= m.weld_);  // near an end: welding, general
 }
 
@@ -1466,6 +1468,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   const std::size_t nc = m.cluster_count();
   Placement pl;
   pl.set(m, plane, &xf);
+  near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
   // Per layer (in offset order): the model-space offset and the ON band.
   layer_d_.resize(L);
   layer_tol_.resize(L);

@@ -21,6 +21,12 @@ inline constexpr double weld_rel = 1e-9;
 /// section() and by the slicer (which leaves such slices to the general path).
 inline constexpr double near_parallel_normal = 1e-9;
 
+/// A crossing on an edge whose angle with the plane has a sine below near_parallel_edge is
+/// placed on the hyperplanes of the facets around the edge rather than at t = s_a / (s_a - s_b)
+/// (section_general): the vertices' rounding moves such a crossing along its edge by about
+/// 1e-16 / sine of the model's size, which stays below 1e-10 at this threshold.
+inline constexpr double near_parallel_edge = 1e-6;
+
 /// Self-intersection test of a section (cw4d::self_intersects): a boundary edge pierces another
 /// face only when its ends lie farther than self_intersection_rel * (bounding-box diagonal) on
 /// both sides of that face's plane, so faces that merely touch are not reported. Two faces

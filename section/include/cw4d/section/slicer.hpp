@@ -270,6 +270,9 @@ class Slicer {
                     std::vector<SliceBuffers>& out);
 
   std::uint32_t gen_ = 0;
+  // tol::near_parallel_edge * |A^T n|: a crossing edge with |s_a - s_b| below this times its
+  // length is nearly parallel to the plane, left to the general path (section_general).
+  double near_parallel_ = 0.0;
   std::vector<double> s_;
   std::vector<std::int8_t> side_;
   std::vector<std::vector<Image>> images_;  // images_[k][internal element of rank k]
