@@ -8,7 +8,8 @@
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
 # installed (CW4D_WEB=0 skips it).
 # Safe to run again: only missing packages are installed and the build is incremental.
-# Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build).
+# Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build),
+# CW4D_WERROR (test mode: 1 = warnings in cw4d's own code are errors, the default; 0 = not).
 set -euo pipefail
 
 # Debian packages needed to build, test and benchmark cw4d. Add new dependencies here only.
@@ -120,8 +121,15 @@ configure_and_build() {
       rm -rf "$cache" "$BUILD_DIR/CMakeFiles"
     fi
   fi
+  # Test mode (and so CI) builds cw4d's own code with -Werror (CW4D_WERROR=0 turns it off); the
+  # plain run keeps what the build directory has (OFF in a new one), so switching modes does not
+  # rebuild.
+  local werror=()
+  if [[ "$MODE" == test ]]; then
+    if [[ "${CW4D_WERROR:-1}" != 0 ]]; then werror=(-DCW4D_WERROR=ON); else werror=(-DCW4D_WERROR=OFF); fi
+  fi
   log "configuring Release in $BUILD_DIR/"
-  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${werror[@]}" >&2
   log "building with $JOBS jobs"
   cmake --build "$BUILD_DIR" -j "$JOBS" >&2
 }

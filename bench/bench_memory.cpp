@@ -1,4 +1,4 @@
-// Peak memory of a 10^6-cell section (issue 8): one Complex of 125,000 disjoint tesseracts
+// Peak memory of a 10^6-cell section: one Complex of 125,000 disjoint tesseracts
 // (bench_models.hpp, with their rank-4 solids), compiled into a clustered SliceModel, cut once
 // without culling by a generic plane through the middle (the plane of bench_slicer's
 // big/slice/nocull). After each stage it prints VmRSS and VmHWM (/proc/self/status) and

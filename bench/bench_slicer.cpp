@@ -1,5 +1,5 @@
 // The slicer's hot path (cw4d/section/slicer.hpp) against its own alternatives and against the
-// machine, each figure a ratio of two benchmarks of the same run (issue 8):
+// machine, each figure a ratio of two benchmarks of the same run:
 //
 //  sweep/M/threads:T  one Slicer::sweep of 256 parallel layers (seeded generic normal, offsets
 //                     evenly spaced over n.centre +- 0.9 radius), T threads;
@@ -530,7 +530,7 @@ int main(int argc, char** argv) {
   std::vector<RatioLine> lines = register_all(default_min_time);
   if (console) {
     cw4d::bench::RatioReporter reporter(color, std::move(lines),
-                                        "Ratios within this run (issue 8 targets):");
+                                        "Ratios within this run (targets):");
     benchmark::RunSpecifiedBenchmarks(&reporter);
   } else {
     benchmark::RunSpecifiedBenchmarks();

@@ -48,7 +48,8 @@ struct Model {
   bool convex;
 };
 
-// Every 4D family of the default catalogue (one or two members each) and every convex Miratope file.
+// Every 4D family of the default catalogue (one or two members each) and every convex Miratope
+// file.
 const std::vector<Model>& models() {
   static const std::vector<Model> all = [] {
     const std::string data = CW4D_TEST_DATA_DIR;

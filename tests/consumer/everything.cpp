@@ -28,12 +28,12 @@ int main() {
   for (std::size_t at = 0; (at = obj.find("\nv ", at)) != std::string::npos; ++at) ++vertices;
   failures += vertices + (obj.rfind("v ", 0) == 0) != 8;
   // A 2 x 1 image encodes to a PNG (its 8-byte signature).
-  cw4d::Image8 image;
+  cw4d::render::Image8 image;
   image.width = 2;
   image.height = 1;
   image.channels = 3;
   image.bytes.assign(6, 255);
-  failures += cw4d::encode_png(image).rfind("\x89PNG\r\n\x1a\n", 0) != 0;
+  failures += cw4d::render::encode_png(image).rfind("\x89PNG\r\n\x1a\n", 0) != 0;
   std::printf("cw4d consumer: %d failure(s)\n", failures);
   return failures == 0 ? 0 : 1;
 }
