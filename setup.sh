@@ -156,9 +156,11 @@ run_sanitizer_suite() {
   local dir="${CW4D_ASAN_DIR:-build-asan}" status=0
   discard_stale_cache "$dir"
   log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build in $dir/"
+  # -g1 (line tables only): sanitizer reports keep function names and file:line, while each
+  # object is ~3.5x smaller and compiles ~1.6x faster than with -g (bench/RESULTS.md, CI time).
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCW4D_BUILD_BENCH=OFF \
     -DCW4D_BUILD_PYTHON=OFF \
-    "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" \
+    "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
     "-DCMAKE_EXE_LINKER_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_SHARED_LINKER_FLAGS=$SANITIZE_FLAGS" >&2 ||
     return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
