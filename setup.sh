@@ -31,6 +31,7 @@ PACKAGES=(
   libtinygltf-dev
   libstb-dev
   libglm-dev
+  libwebp-dev
   libtet1.5-dev
   libtbb-dev
   assimp-utils

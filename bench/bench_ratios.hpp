@@ -1,6 +1,6 @@
 #pragma once
 // A console reporter that ends a run with ratios of the benchmarks of that same run, each next
-// to its target (only ratios taken side by side are stated).
+// to its target (on a shared machine only ratios taken side by side are stated).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>

@@ -11,6 +11,7 @@
 //   bench_section [--benchmark_filter=REGEX] [--benchmark_min_time=SECONDS] ...
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -81,6 +82,20 @@ void run_slices(benchmark::State& state, const cw4d::Complex& model,
   state.counters["hit"] = benchmark::Counter(hits, benchmark::Counter::kAvgIterations);
 }
 
+// self_intersects alone on precomputed sections (a convex model's sections take the full pass
+// over every face pair; section() itself skips the test for certified convex models).
+void run_self_intersects(benchmark::State& state, const std::vector<cw4d::Section>& sections) {
+  std::size_t i = 0;
+  double flagged = 0;
+  for (auto _ : state) {
+    const bool f = cw4d::self_intersects(sections[i].complex);
+    benchmark::DoNotOptimize(f);
+    flagged += f ? 1.0 : 0.0;
+    if (++i == sections.size()) i = 0;
+  }
+  state.counters["flagged"] = benchmark::Counter(flagged, benchmark::Counter::kAvgIterations);
+}
+
 struct Case {
   std::string name;
   std::string model_spec;
@@ -107,6 +122,21 @@ void register_cases(bool default_min_time) {
         [model, planes](benchmark::State& state) { run_slices(state, *model, *planes); });
     b->Unit(benchmark::kMicrosecond);
     // A per-benchmark MinTime would override the command line flag, so set it only by default.
+    if (default_min_time) b->MinTime(kMinTime);
+  }
+  for (const char* spec : {"600-cell", "120-cell", "icosahedral 120-cell", "grand 600-cell"}) {
+    const cw4d::Complex model = cw4d::load_model(spec);
+    auto sections = std::make_shared<std::vector<cw4d::Section>>();
+    for (const auto& plane : generic_planes(model)) {
+      cw4d::Section s = cw4d::section(model, plane);
+      if (!s.empty()) sections->push_back(std::move(s));
+    }
+    std::string name = std::string("self_intersects/") + spec + "/generic";
+    std::replace(name.begin(), name.end(), ' ', '_');
+    auto* b = benchmark::RegisterBenchmark(name.c_str(), [sections](benchmark::State& state) {
+      run_self_intersects(state, *sections);
+    });
+    b->Unit(benchmark::kMicrosecond);
     if (default_min_time) b->MinTime(kMinTime);
   }
 }

@@ -530,7 +530,7 @@ int main(int argc, char** argv) {
   std::vector<RatioLine> lines = register_all(default_min_time);
   if (console) {
     cw4d::bench::RatioReporter reporter(color, std::move(lines),
-                                        "Ratios within this run (targets):");
+                                        "Ratios within this run (against their targets):");
     benchmark::RunSpecifiedBenchmarks(&reporter);
   } else {
     benchmark::RunSpecifiedBenchmarks();

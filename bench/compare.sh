@@ -8,20 +8,36 @@
 # in alternating rounds (old, new, old, new, ...) and prints per case the median time of each
 # and old/new. Nothing outside the checkout and /tmp is written; the worktree is removed.
 # BENCH_MODELS="tesseract/ 600-cell/" restricts the models (case name prefixes).
+# COMPARE_DIR=/tmp/somewhere keeps REF's worktree and build there for later runs (only the
+# benchmark itself is recompiled); remove it with `git worktree remove --force DIR/old`.
 set -euo pipefail
 ref=${1:-1da183a}
 rounds=${2:-3}
 min_time=${3:-0.25}
 root=$(cd "$(dirname "$0")/.." && pwd)
-tmp=$(mktemp -d /tmp/cw4d-compare.XXXXXX)
+keep=${COMPARE_DIR:-}
+if [[ -n "$keep" ]]; then
+  tmp=$keep
+  mkdir -p "$tmp"
+  rm -f "$tmp/runs.txt"
+else
+  tmp=$(mktemp -d /tmp/cw4d-compare.XXXXXX)
+fi
 old_tree="$tmp/old"
 cleanup() {
-  git -C "$root" worktree remove --force "$old_tree" >/dev/null 2>&1 || true
-  rm -rf "$tmp"
+  if [[ -z "$keep" ]]; then
+    git -C "$root" worktree remove --force "$old_tree" >/dev/null 2>&1 || true
+    rm -rf "$tmp"
+  fi
 }
 trap cleanup EXIT
 export CCACHE_NOHASHDIR=1
-git -C "$root" worktree add --detach "$old_tree" "$ref" >/dev/null 2>&1
+if [[ ! -d "$old_tree" ]]; then
+  git -C "$root" worktree add --detach "$old_tree" "$ref" >/dev/null 2>&1
+elif [[ $(git -C "$old_tree" rev-parse HEAD) != $(git -C "$root" rev-parse "$ref^{commit}") ]]; then
+  echo "compare.sh: $old_tree holds another commit than $ref" >&2
+  exit 2
+fi
 cp "$root/bench/bench_compare.cpp" "$old_tree/bench/"
 if ! grep -q bench_compare "$old_tree/bench/CMakeLists.txt"; then
   cat >>"$old_tree/bench/CMakeLists.txt" <<'CMAKE'

@@ -83,6 +83,8 @@ const std::vector<Example>& examples() {
       {"wythoff:s3s4o3o", true},
       {"wythoff:s5s3s", true},
       {"grand antiprism", true},
+      {"great grand stellated 120-cell", false},
+      {"quasitruncated tesseract", false},
       {"glome:1,4", true},
       {"hull:" + std::string(CW4D_TEST_DATA_DIR) + "/cube_points.txt", true},
   };

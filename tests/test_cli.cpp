@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/transform.hpp"
@@ -686,4 +687,99 @@ TEST_CASE("bench measures the hot path, the tetrahedral path and a sweep", "[cli
   // Bad budgets are usage errors.
   CHECK(run(dir, {"bench", "--seconds", "0"}).code == 1);
   CHECK(run(dir, {"bench", "cube:3"}).code == 1);
+}
+
+TEST_CASE("net writes the tesseract's cross and non-overlapping nets", "[cli][net]") {
+  TempDir dir;
+  const Result r = run(dir, {"net", "tesseract", "--tree", "bfs", "-o", "out/cross.4off"});
+  INFO("stdout: " << r.out << "\nstderr: " << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.err.empty());
+  CHECK(r.out.find("8 cells") != std::string::npos);
+  CHECK(r.out.find("no overlaps") != std::string::npos);
+  const cw4d::Complex cross = cw4d::read_off_file((dir / "out/cross.4off").string());
+  CHECK(cw4d::validate(cross).ok());
+  REQUIRE(cross.ambient_dim() == 3);
+  // A 3D OFF file holds the surface: 8 cubes of 6 squares on their own vertices.
+  CHECK(cross.count(0) == 64);
+  CHECK(cross.count(2) == 48);
+  CHECK(cw4d::signed_volume(cross) == Approx(64.0));
+
+  const Result obj = run(dir, {"net", "tesseract", "--tree", "bfs", "-o", "cross.obj"});
+  REQUIRE(obj.code == 0);
+  const Obj o = read_obj(dir / "cross.obj");
+  CHECK(o.v.size() == 64);
+  CHECK(o.f.size() == 48);
+  // One group per cell.
+  const std::string text = read_text(dir / "cross.obj");
+  std::set<std::string> groups;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("g ", 0) == 0) groups.insert(line);
+  CHECK(groups.size() == 8);
+
+  for (const std::string model : {"24-cell", "120-cell"}) {
+    const Result n = run(dir, {"net", model, "-o", model + ".off"});
+    INFO(model << ": " << n.out << n.err);
+    REQUIRE(n.code == 0);
+    CHECK(n.out.find("no overlaps") != std::string::npos);
+    const cw4d::Complex net = cw4d::read_off_file((dir / (model + ".off")).string());
+    CHECK(cw4d::validate(net).ok());
+    const cw4d::Complex m = cw4d::load_model(model);
+    double boundary = 0.0;  // the model's cells, measured in place
+    for (std::uint32_t c = 0; c < m.count(3); ++c) boundary += cw4d::element_volume(m, 3, c);
+    CHECK(cw4d::signed_volume(net) == Approx(boundary).epsilon(1e-9));
+  }
+
+  const Result png = run(dir, {"net", "24-cell", "--size", "320x200", "-o", "n.png"});
+  REQUIRE(png.code == 0);
+  const std::string bytes = read_text(dir / "n.png");
+  REQUIRE(bytes.size() > 24);
+  CHECK(bytes.substr(1, 3) == "PNG");
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(bytes[at]) << 24) |
+           (static_cast<unsigned char>(bytes[at + 1]) << 16) |
+           (static_cast<unsigned char>(bytes[at + 2]) << 8) |
+           static_cast<unsigned char>(bytes[at + 3]);
+  };
+  CHECK(be32(16) == 320u);
+  CHECK(be32(20) == 200u);
+
+  const Result cube = run(dir, {"net", "cube:3", "-o", "cube.obj"});
+  REQUIRE(cube.code == 0);
+  CHECK(cube.out.find("6 faces") != std::string::npos);
+  CHECK(cube.out.find("area 24") != std::string::npos);
+  CHECK(read_obj(dir / "cube.obj").f.size() == 6);
+
+  // A tree that overlaps is written, with a warning.
+  const Result dfs = run(dir, {"net", "120-cell", "--tree", "dfs", "-o", "dfs.obj"});
+  CHECK(dfs.code == 0);
+  CHECK(dfs.err.rfind("cw4d: warning: the net overlaps itself", 0) == 0);
+  CHECK(dir.exists("dfs.obj"));
+}
+
+TEST_CASE("net refuses bad requests with one line and writes nothing", "[cli][net]") {
+  TempDir dir;
+  dir.write("open.4off", kOpenCell);
+  dir.write("file", "x");
+  const std::vector<std::pair<std::vector<std::string>, int>> cases = {
+      {{"net", "tesseract", "--root", "8", "-o", "x.obj"}, 1},
+      {{"net", "tesseract", "--tree", "spiral", "-o", "x.obj"}, 1},
+      {{"net", "tesseract", "-o", "x.xyz"}, 1},
+      {{"net", "tesseract", "--format", "png", "-o", "x.obj"}, 1},
+      {{"net", "cube:5", "-o", "x.obj"}, 1},
+      {{"net", "cube:3", "-o", "x.png"}, 1},
+      {{"net", "cube:3", "-o", "x.svg"}, 1},
+      {{"net", "no-such-model", "-o", "x.obj"}, 1},
+      {{"net", "open.4off", "-o", "x.obj"}, 3},
+      {{"net", "tesseract", "-o", "file/x.obj"}, 4},
+  };
+  for (const auto& [cmd, code] : cases) {
+    const Result r = run(dir, cmd);
+    INFO(cmd[1] << " " << cmd.back() << ": " << r.err);
+    CHECK(r.code == code);
+    check_one_error_line(r);
+    CHECK(!dir.exists("x.obj"));
+    CHECK(!dir.exists("x.png"));
+  }
 }

@@ -2,6 +2,7 @@
 // built-ins and the example scene; bad requests exit with the documented codes and write nothing.
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -80,6 +81,144 @@ TEST_CASE("cw4d render writes each kind of picture", "[render][cli]") {
   }
 }
 
+// Fraction of covered pixels whose color differs between two pictures of the same size.
+double differing_fraction(const cw4d::render::Image8& a, const cw4d::render::Image8& b) {
+  std::size_t differ = 0, covered = 0;
+  for (std::size_t i = 0; i + 2 < a.bytes.size(); i += a.channels) {
+    const bool drawn = a.bytes[i] < 250 || a.bytes[i + 1] < 250 || a.bytes[i + 2] < 250;
+    if (!drawn) continue;
+    ++covered;
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d += std::abs(int(a.bytes[i + c]) - int(b.bytes[i + c]));
+    if (d > 12) ++differ;
+  }
+  return covered ? static_cast<double>(differ) / covered : 0.0;
+}
+
+TEST_CASE("cw4d render textures sections and lights them in 4D", "[render][cli]") {
+  TempDir dir;
+  const std::vector<std::string> base = {"render",   "tesseract", "--normal",  "0,0,0,1",
+                                         "--offset", "0.1",       "--rotate",  "xy:20",
+                                         "--size",   "160x120",   "--samples", "1"};
+  auto render = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    args.insert(args.end(), {"-o", out});
+    const Result r = run(dir, args);
+    CAPTURE(extra, r.err);
+    REQUIRE(r.code == 0);
+    return cw4d::render::read_png((dir / out).string());
+  };
+  const auto plain = render("plain.png", {});
+  const auto checker = render("checker.png", {"--texture", "checker:4"});
+  const auto tet = render("tet.png", {"--texture", "checker:4", "--method", "tet"});
+  CHECK(differing_fraction(plain, checker) > 0.2);
+  CHECK(differing_fraction(checker, tet) < 0.02);  // both paths texture alike
+  CHECK(differing_fraction(plain, render("obj.png", {"--texture", "object=0:wood"})) > 0.01);
+  // 4D light: turning the model in xw changes the picture of the same section (w-cells lit
+  // differently), while the 3D studio light sees only the section's shape.
+  const auto l20 = render("l20.png", {"--light-mode", "4d", "--rotate", "xw:20"});
+  const auto l35 = render("l35.png", {"--light4", "0,0,0.3,1", "--rotate", "xw:35"});
+  const auto p20 = render("p20.png", {"--light4", "point:0,0,0,3:3", "--rotate", "xw:20"});
+  CHECK(differing_fraction(l20, l35) > 0.2);
+  CHECK(drawn_fraction(p20) > 0.1);
+  // Bad texture and light specs exit 1 and write nothing.
+  TempDir bad;
+  CHECK(
+      run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--texture", "plaid", "-o", "a.png"})
+          .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--light4", "1,2,3", "-o", "a.png"})
+            .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--method", "tet", "--mode",
+                  "stereo", "-o", "a.png"})
+            .code == 1);
+  CHECK(bad.entries() == 0);
+}
+
+TEST_CASE("cw4d render: view-aligned clouds, stereo pairs, sections in wireframes, eye inside",
+          "[render][cli]") {
+  TempDir dir;
+  struct Case {
+    std::vector<std::string> args;
+    int width;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--view", "1,0,0.05"},
+       120,
+       "stacked along u"},
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--stack", "s"},
+       120,
+       "stacked along s"},
+      {{"tesseract", "--mode", "cloud", "--normal", "0,0,1,1", "--stereo"}, 240, "stereo pair"},
+      {{"24-cell", "--mode", "wireframe", "--stereo"}, 240, "stereo pair"},
+      {{"24-cell", "--mode", "wireframe", "--section", "--offset", "0.3"}, 120, "its section"},
+      {{"tesseract", "--mode", "wireframe", "--eye4-at", "0.2,0.1,0,0", "--look4", "0,0,0,1",
+        "--fov4", "120"},
+       120,
+       "4D wireframe"},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string out = "v" + std::to_string(k++) + ".png";
+    std::vector<std::string> args = {"render"};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    args.insert(args.end(), {"--size", "120x90", "--samples", "1", "--layers", "12", "-o", out});
+    const Result r = run(dir, args);
+    CAPTURE(c.args, r.err, r.out);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find(c.says) != std::string::npos);
+    const auto img = cw4d::render::read_png((dir / out).string());
+    CHECK(img.width == c.width);
+    CHECK(drawn_fraction(img) > 0.02);
+  }
+  TempDir bad;
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--stereo", "-o", "a.png"}).code ==
+        1);
+  CHECK(run(bad, {"render", "tesseract", "--mode", "wireframe", "--eye4-at", "0,0,0,1", "--look4",
+                  "0,0,0,1", "-o", "a.png"})
+            .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--mode", "cloud", "--normal", "0,0,0,1", "--stack", "w",
+                  "-o", "a.png"})
+            .code == 1);
+  CHECK(bad.entries() == 0);
+}
+
+TEST_CASE("cw4d render --animate writes an animated WebP", "[render][cli]") {
+  TempDir dir;
+  for (const std::string kind : {"sweep", "rotate:xw", "orbit"}) {
+    // (A normal with changing sections: libwebp folds identical frames into one.)
+    const Result r =
+        run(dir, {"render", "tesseract", "--normal", "1,1,1,1", "--offset", "0.2", "--animate",
+                  kind, "--frames", "5", "--size", "64x48", "-o", "a.webp"});
+    CAPTURE(kind, r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("5 frames") != std::string::npos);
+    const std::string bytes = cw4d::test::read_text(dir / "a.webp");
+    // RIFF....WEBP with the animation chunk of the extended format.
+    REQUIRE(bytes.size() > 40);
+    CHECK(bytes.compare(0, 4, "RIFF") == 0);
+    CHECK(bytes.compare(8, 4, "WEBP") == 0);
+    CHECK(bytes.find("ANIM") != std::string::npos);
+    CHECK(bytes.find("ANMF") != std::string::npos);
+  }
+  CHECK(dir.entries() == 1);  // no temporary file left
+  TempDir bad;
+  CHECK(
+      run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "spin", "-o", "a.webp"})
+          .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "rotate:xx", "-o",
+                  "a.webp"})
+            .code == 1);
+  CHECK(
+      run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "sweep", "-o", "a.png"})
+          .code == 1);
+  CHECK(run(bad, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", "7", "--animate",
+                  "orbit", "-o", "a.webp"})
+            .code == 5);
+  CHECK(bad.entries() == 0);
+}
+
 TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
   TempDir dir;
   const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1",
@@ -111,4 +250,28 @@ TEST_CASE("cw4d render rejects bad requests without writing", "[render][cli]") {
   CHECK(miss.code == 5);
   CHECK(miss.err.rfind("cw4d: error: ", 0) == 0);
   CHECK(dir.entries() == 0);
+}
+
+TEST_CASE("cw4d render --mode schlegel draws every edge from outside one cell", "[render][cli]") {
+  TempDir dir;
+  const Result r =
+      run(dir, {"render", "120-cell", "--mode", "schlegel", "--size", "200x150", "-o", "s.png"});
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("1200 edges") != std::string::npos);
+  const auto img = cw4d::render::read_png((dir / "s.png").string());
+  CHECK(img.width == 200);
+  CHECK(img.height == 150);
+  CHECK(drawn_fraction(img) > 0.05);
+  const Result faces = run(
+      dir, {"render", "tesseract", "--mode", "schlegel", "--faces", "--cell", "3", "-o", "t.png"});
+  REQUIRE(faces.code == 0);
+  CHECK(faces.out.find("32 edges and 24 faces, seen from outside cell 3") != std::string::npos);
+  const Result bad =
+      run(dir, {"render", "tesseract", "--mode", "schlegel", "--cell", "8", "-o", "bad.png"});
+  CHECK(bad.code == 1);
+  CHECK(!fs::exists(dir / "bad.png"));
+  const Result flat = run(dir, {"render", "cube:3", "--mode", "schlegel", "-o", "c.png"});
+  CHECK(flat.code == 1);
+  CHECK(!fs::exists(dir / "c.png"));
 }

@@ -348,7 +348,12 @@ TEST_CASE("bad Coxeter diagrams throw InputError", "[wythoff][errors]") {
       "x 3o",
       "x3y",
       "x-3o",
-      "x5/2o",
+      "x5/2x",  // a doubly covered pentagon
+      "x6/4o",
+      "x5/0o",
+      "x5/5o",
+      "x5/o",
+      "x7/2o3o",  // infinite
       "x3o3o3o3o3o3o3o3o3o3o",
       "x99999999999o",
       "x3.5o",

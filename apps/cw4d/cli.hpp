@@ -160,6 +160,7 @@ void add_list_command(CLI::App& app, Commands& commands);
 void add_info_command(CLI::App& app, Commands& commands);
 void add_convert_command(CLI::App& app, Commands& commands);
 void add_slice_command(CLI::App& app, Commands& commands);
+void add_net_command(CLI::App& app, Commands& commands);
 void add_sweep_command(CLI::App& app, Commands& commands);
 void add_render_command(CLI::App& app, Commands& commands);
 void add_tetrahedralize_command(CLI::App& app, Commands& commands);

@@ -5,15 +5,20 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numbers>
 
 #include "cli.hpp"
 #include "cw4d/complex/transform.hpp"
+#include "cw4d/render/animation.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
+#include "cw4d/render/schlegel.hpp"
 #include "cw4d/render/section_view.hpp"
 #include "cw4d/render/stereographic.hpp"
 #include "cw4d/render/voxel_cloud.hpp"
 #include "cw4d/render/wireframe4d.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
 
 namespace cw4d::cli {
 
@@ -39,7 +44,46 @@ struct RenderSettings {
   bool no_occlusion = false;
   bool lines = false;
   double separation = 0.0;
+  long long cell = -1;  // schlegel: the front cell, -1: default
+  bool faces = false;   // schlegel: draw the faces too
+  std::vector<std::string> textures;
+  std::string light_mode = "3d";
+  std::vector<std::string> lights4;
+  std::string method = "cw";
+  std::string stack = "auto";
+  bool stereo = false;
+  bool with_section = false;
+  std::string eye4_at_text;
+  std::string look4_text;
+  std::string animate;
+  int frames = 36;
+  int frame_ms = 80;
 };
+
+// "X,Y,Z,W" (directional, towards the light) or "point:X,Y,Z,W[:REFERENCE]".
+render::Light4 parse_light4(const std::string& text) {
+  render::Light4 light;
+  std::string rest = text;
+  if (rest.rfind("point:", 0) == 0) {
+    light.kind = render::Light4::Kind::Point;
+    rest = rest.substr(6);
+    const auto colon = rest.find(':');
+    if (colon != std::string::npos) {
+      const auto r = parse_vector(rest.substr(colon + 1), "--light4 reference");
+      if (r.size() != 1 || !(r[0] > 0.0) || !std::isfinite(r[0]))
+        throw InputError("--light4 '" + text + "': the reference distance must be > 0");
+      light.reference = static_cast<float>(r[0]);
+      rest = rest.substr(0, colon);
+    }
+  }
+  const auto v = parse_vector(rest, "--light4");
+  if (v.size() != 4) throw InputError("--light4 '" + text + "' needs 4 components X,Y,Z,W");
+  light.vector = glm::vec4(static_cast<float>(v[0]), static_cast<float>(v[1]),
+                           static_cast<float>(v[2]), static_cast<float>(v[3]));
+  if (light.kind == render::Light4::Kind::Directional && light.vector == glm::vec4(0.0f))
+    throw InputError("--light4 '" + text + "': a direction must not be the zero vector");
+  return light;
+}
 
 glm::vec3 parse_vec3(const std::string& text, const std::string& option) {
   const auto v = parse_vector(text, option);
@@ -71,6 +115,11 @@ render::SectionViewOptions section_options(const RenderSettings& s) {
   if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
   o.edges = s.edges;
   o.cull_back_faces = s.cull;
+  for (const auto& t : s.textures) render::add_texture(o.textures, t);
+  o.light_4d = s.light_mode == "4d" || !s.lights4.empty();
+  for (const auto& l : s.lights4) o.lights4.push_back(parse_light4(l));
+  // With several lights the intensities share one unit, like the studio's key and fill.
+  for (auto& l : o.lights4) l.color /= static_cast<float>(o.lights4.size());
   return o;
 }
 
@@ -86,6 +135,80 @@ const Complex* single_model(const Input& input) {
   return input.is_scene ? nullptr : input.models().front();
 }
 
+// The axis pair of "rotate:xw" (axes x, y, z, w).
+std::pair<int, int> rotation_plane(const std::string& spec) {
+  const std::string plane = spec.size() > 7 ? spec.substr(7) : std::string();
+  const std::string axes = "xyzw";
+  if (plane.size() != 2 || axes.find(plane[0]) == std::string::npos ||
+      axes.find(plane[1]) == std::string::npos || plane[0] == plane[1])
+    throw InputError("--animate rotate:PLANE takes two different axes of x, y, z, w (xw), not '" +
+                     spec + "'");
+  return {static_cast<int>(axes.find(plane[0])), static_cast<int>(axes.find(plane[1]))};
+}
+
+// An animated WebP of the section: a sweep of the plane across the input, a full turn of every
+// object in one plane about the origin, or the 3D camera orbiting the section's up axis.
+std::string run_animation(const RenderSettings& s, const Input& input, Placement& p) {
+  const bool sweep = s.animate == "sweep", orbit = s.animate == "orbit";
+  std::pair<int, int> plane{0, 3};
+  if (!sweep && !orbit) {
+    if (s.animate.rfind("rotate:", 0) != 0)
+      throw InputError("--animate takes sweep, rotate:PLANE or orbit, not '" + s.animate + "'");
+    plane = rotation_plane(s.animate);
+  }
+  const Hyperplane plane0 = p.plane(0.0);
+  const HyperplaneFrame frame0(plane0);
+  auto o = section_options(s);
+  std::vector<double> offsets(static_cast<std::size_t>(s.frames), s.offset);
+  if (sweep) {
+    const auto [lo, hi] = render::scene_extent(input.scene, plane0.normal);
+    offsets = render::layer_offsets(lo, hi, s.frames);
+    o.frame = render::scene_frame(input.scene, frame0);
+  } else if (!orbit) {
+    // Every turned position lies in the ball about the origin through the farthest vertex.
+    double radius = 0.0;
+    for (const auto& obj : input.scene.objects) {
+      const Eigen::MatrixXd w = (obj.transform.linear() * obj.complex->positions()).colwise() +
+                                obj.transform.translation();
+      if (w.cols() > 0) radius = std::max(radius, w.colwise().norm().maxCoeff());
+    }
+    const Eigen::VectorXd c = frame0.to_plane(Eigen::VectorXd::Zero(4));
+    o.frame.centre =
+        glm::vec3(static_cast<float>(c(0)), static_cast<float>(c(1)), static_cast<float>(c(2)));
+    o.frame.radius = static_cast<float>(std::max(radius, 1e-9));
+  } else {
+    o.frame = render::scene_frame(input.scene, HyperplaneFrame(p.plane(s.offset)));
+  }
+  const glm::vec3 view0 = o.view_from;
+  std::vector<render::Image8> frames;
+  std::size_t empty = 0;
+  for (int i = 0; i < s.frames; ++i) {
+    const double turn = 2.0 * std::numbers::pi * i / s.frames;
+    Input in = input;
+    if (!sweep && !orbit)
+      for (auto& obj : in.scene.objects)
+        obj.transform =
+            AffineTransform::rotation(4, plane.first, plane.second, turn) * obj.transform;
+    if (orbit) {
+      const float c = static_cast<float>(std::cos(turn)), sn = static_cast<float>(std::sin(turn));
+      o.view_from = glm::vec3(c * view0.x - sn * view0.y, sn * view0.x + c * view0.y, view0.z);
+    }
+    o.source = &in.scene;
+    const Cut c = cut(in, p.plane(offsets[static_cast<std::size_t>(i)]));
+    if (c.section.empty()) ++empty;
+    frames.push_back(
+        render::to_srgb8(render::render_section(c.section, o, single_model(in)), glm::vec3(1.0f)));
+  }
+  if (empty == frames.size())
+    throw EmptySection("the plane misses " + p.input_label() + " in every frame (it meets " +
+                       offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
+                       s.output + "'");
+  render::AnimationOptions ao;
+  ao.frame_ms = s.frame_ms;
+  render::write_webp_animation(s.output, frames, ao);
+  return "animation (" + std::to_string(s.frames) + " frames, " + s.animate + ")";
+}
+
 // The pixels a render holds at once (linear RGBA floats, 16 bytes each): a contact sheet keeps
 // every layer and the sheet, a stereo pair both views and the pair.
 constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
@@ -93,7 +216,8 @@ constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
 void check_pixel_budget(const RenderSettings& s) {
   const render::RasterOptions r = raster_options(s);
   const int layers = s.layers > 0 ? s.layers : (s.mode == "sheet" ? 16 : 24);
-  const double images = s.mode == "sheet" ? 2.0 * layers : s.mode == "stereo" ? 4.0 : 1.0;
+  double images = s.mode == "sheet" ? 2.0 * layers : (s.mode == "stereo" || s.stereo) ? 4.0 : 1.0;
+  if (!s.animate.empty()) images = 1.0 + s.frames * 3.0 / 16.0;  // the 8-bit RGB frames kept
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError(
@@ -103,20 +227,31 @@ void check_pixel_budget(const RenderSettings& s) {
         " pixels in memory (" +
         std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
         " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
-        ": give a smaller --size" + (s.mode == "sheet" ? " or fewer --layers" : ""));
+        ": give a smaller --size" +
+        (s.mode == "sheet"    ? " or fewer --layers"
+         : !s.animate.empty() ? " or fewer --frames"
+                              : ""));
 }
 
 void run_render(RenderSettings& s) {
   Placement& p = s.placement;
   check_pixel_budget(s);
-  const bool needs_plane = s.mode != "wireframe" && s.mode != "stereographic";
+  const bool needs_plane =
+      s.mode != "wireframe" && s.mode != "stereographic" && s.mode != "schlegel";
   if (p.normal_text.empty()) {
     if (needs_plane) throw InputError("render --mode " + s.mode + " needs --normal");
     p.normal_text = "0,0,0,1";
   }
   p.parse("render");
-  if (lower_extension(s.output) != ".png")
+  if (!s.animate.empty()) {
+    if (s.mode != "section")
+      throw InputError("--animate draws --mode section (sweep, rotate:PLANE or orbit)");
+    if (lower_extension(s.output) != ".webp")
+      throw InputError("--animate writes an animated WebP: give -o NAME.webp, not '" + s.output +
+                       "'");
+  } else if (lower_extension(s.output) != ".png") {
     throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
+  }
   const Input input = load_input(p);
   if (input.dim() != 4)
     throw InputError("render draws 4D models; " + p.input_label() + " lives in R^" +
@@ -125,13 +260,53 @@ void run_render(RenderSettings& s) {
   const glm::vec3 background(1.0f);
   std::string what;
 
-  if (s.mode == "section" || s.mode == "stereo") {
+  const bool sections =
+      s.mode == "section" || s.mode == "stereo" || s.mode == "sheet" || s.mode == "frames";
+  if (!sections && (!s.textures.empty() || s.light_mode == "4d" || !s.lights4.empty()))
+    throw InputError(
+        "--texture, --light-mode 4d and --light4 draw sections (--mode section, "
+        "stereo, sheet, frames), not --mode " +
+        s.mode);
+  if (s.stereo && s.mode != "cloud" && s.mode != "wireframe")
+    throw InputError("--stereo is for --mode cloud and wireframe (sections: --mode stereo)");
+  if (s.with_section && s.mode != "wireframe")
+    throw InputError("--section draws the section inside a --mode wireframe picture");
+  if ((!s.eye4_at_text.empty() || !s.look4_text.empty()) && s.mode != "wireframe")
+    throw InputError("--eye4-at and --look4 place the camera of --mode wireframe");
+  if (s.method == "tet" && s.mode != "section")
+    throw InputError("--method tet draws --mode section only");
+  if (!s.animate.empty()) {
+    if (s.method == "tet") throw InputError("--animate cuts with --method cw");
+    what = run_animation(s, input, p);
+  } else if (s.method == "tet") {
+    // The tetrahedral path: the model's tetrahedra cut one by one, each triangle carrying the
+    // UVW and normals interpolated at its corners.
+    if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
+    if (s.edges) throw InputError("--edges draws the polygon outlines of --method cw only");
+    const SceneObject& obj = input.scene.objects.front();
+    const TetSection ts =
+        slice_tets(tetrahedralize(*obj.complex), p.plane(s.offset), obj.transform);
+    if (ts.empty())
+      throw EmptySection("the plane misses " + p.input_label() + " (it meets " +
+                         offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
+                         s.output + "'");
+    auto o = section_options(s);
+    const render::TriangleMesh mesh =
+        render::soup_mesh(ts.positions, ts.normals, ts.uvw, ts.cell, obj, &o.textures);
+    render::FrameSphere f = render::bounding_frame(mesh);
+    const float aspect = static_cast<float>(o.raster.width) / static_cast<float>(o.raster.height);
+    const render::Camera camera = render::Camera::framing(
+        f.centre, std::max(f.radius, 1e-6f), o.view_from, aspect, o.projection, o.fov_y_degrees);
+    render::write_png(s.output, render::render_mesh(mesh, {}, ts.frame, o, camera), background);
+    what = "section (tetrahedral path, " + std::to_string(ts.triangle_count()) + " triangles)";
+  } else if (s.mode == "section" || s.mode == "stereo") {
     const Cut c = cut(input, p.plane(s.offset));
     if (c.section.empty())
       throw EmptySection("the plane misses " + p.input_label() + " (it meets " +
                          offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
                          s.output + "'");
-    const auto o = section_options(s);
+    auto o = section_options(s);
+    o.source = &input.scene;
     const render::Image img =
         s.mode == "section"
             ? render::render_section(c.section, o, single_model(input))
@@ -144,6 +319,7 @@ void run_render(RenderSettings& s) {
     const Hyperplane plane0 = p.plane(0.0);
     const auto [lo, hi] = render::scene_extent(input.scene, plane0.normal);
     auto o = section_options(s);
+    o.source = &input.scene;
     o.frame = render::scene_frame(input.scene, HyperplaneFrame(plane0));
     std::vector<render::Image> cells;
     const auto offsets = render::layer_offsets(lo, hi, layers);
@@ -172,10 +348,16 @@ void run_render(RenderSettings& s) {
     o.opacity = s.opacity;
     o.cell_palette = !input.is_scene;
     if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
+    o.stack_axis = s.stack == "u" ? 0 : s.stack == "v" ? 1 : s.stack == "s" ? 2 : -1;
     Eigen::VectorXd n(4);
     for (int i = 0; i < 4; ++i) n(i) = p.normal[i];
-    render::write_png(s.output, render::render_voxel_cloud(input.scene, n, o), background);
-    what = "voxel cloud of " + std::to_string(o.layers) + " layers";
+    render::write_png(s.output,
+                      s.stereo ? render::render_cloud_stereo_pair(input.scene, n, o)
+                               : render::render_voxel_cloud(input.scene, n, o),
+                      background);
+    const int axis = render::cloud_stack_axis(o.view_from, o.stack_axis);
+    what = std::string(s.stereo ? "stereo pair (left eye left) of a " : "") + "voxel cloud of " +
+           std::to_string(o.layers) + " layers stacked along " + "uvs"[axis];
   } else if (s.mode == "wireframe") {
     render::WireframeOptions o;
     o.raster = raster_options(s);
@@ -189,9 +371,55 @@ void run_render(RenderSettings& s) {
     if (from.cwiseAbs().maxCoeff() == 0.0) throw InputError("--eye4 must not be the zero vector");
     const int e = std::ilogb(from.cwiseAbs().maxCoeff());
     from = from.unaryExpr([e](double x) { return std::scalbn(x, -e); }).eval();
-    const render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
-    render::write_png(s.output, render::render_wireframe(input.scene, cam, o), background);
-    what = std::string("4D wireframe") + (o.occlusion ? " with occlusion" : "");
+    render::Camera4 cam = render::frame_scene(input.scene, from, s.fov4);
+    if (!s.eye4_at_text.empty() || !s.look4_text.empty()) {
+      // A camera placed at a point (inside a polytope, say) looking at --look4 (default: the
+      // centre the framed camera looks at).
+      auto point4 = [](const std::string& text, const std::string& option) {
+        const auto v = parse_vector(text, option);
+        if (v.size() != 4) throw InputError(option + " takes 4 components X,Y,Z,W");
+        return Eigen::VectorXd(Eigen::Map<const Eigen::Vector4d>(v.data()));
+      };
+      Eigen::VectorXd look(4);
+      if (s.look4_text.empty()) {  // the centre of the scene's bounding box
+        for (int i = 0; i < 4; ++i) {
+          const auto [lo, hi] = render::scene_extent(input.scene, Eigen::Vector4d::Unit(i));
+          look(i) = 0.5 * (lo + hi);
+        }
+      } else {
+        look = point4(s.look4_text, "--look4");
+      }
+      const Eigen::VectorXd eye =
+          s.eye4_at_text.empty() ? cam.eye : point4(s.eye4_at_text, "--eye4-at");
+      if ((look - eye).norm() == 0.0)
+        throw InputError("--eye4-at must differ from the point the camera looks at (--look4)");
+      cam = render::Camera4::look_at(eye, look, s.fov4);
+    }
+    Section sec;
+    if (s.with_section) {
+      sec = cut(input, p.plane(s.offset)).section;
+      o.section = &sec;
+    }
+    render::write_png(s.output,
+                      s.stereo ? render::render_wireframe_stereo_pair(input.scene, cam, o)
+                               : render::render_wireframe(input.scene, cam, o),
+                      background);
+    what = std::string(s.stereo ? "stereo pair (left eye left) of a " : "") + "4D wireframe" +
+           (o.occlusion ? " with occlusion" : "") + (s.with_section ? " and its section" : "");
+  } else if (s.mode == "schlegel") {
+    if (input.is_scene) throw InputError("--mode schlegel draws one MODEL, not a --scene");
+    render::SchlegelOptions o;
+    o.raster = raster_options(s);
+    o.faces = s.faces;
+    if (!s.view_text.empty()) o.view_from = parse_vec3(s.view_text, "--view");
+    if (s.projection == "orthographic") o.projection = render::Projection::Orthographic;
+    const SceneObject& obj = input.scene.objects.front();
+    const Complex placed = transformed(*obj.complex, obj.transform);
+    const render::SchlegelProjection sp = render::schlegel_projection(placed, s.cell);
+    render::write_png(s.output, render::render_schlegel(placed, sp, o), background);
+    what = "Schlegel diagram (" + std::to_string(placed.count(1)) + " edges" +
+           (s.faces ? " and " + std::to_string(placed.count(2)) + " faces" : std::string()) +
+           ", seen from outside cell " + std::to_string(sp.cell) + ")";
   } else {  // stereographic
     if (input.is_scene) throw InputError("--mode stereographic draws one MODEL, not a --scene");
     render::StereographicOptions o;
@@ -217,10 +445,11 @@ void add_render_command(CLI::App& app, Commands& commands) {
                                  "4D wireframe, a stereographic view, a stereo pair or a sweep.");
   s->placement.add_options(*cmd);
   cmd->get_option("--normal")->required(false);
-  cmd->add_option("--mode", s->mode,
-                  "section (default), stereo, sheet, frames, cloud, wireframe, stereographic")
-      ->check(CLI::IsMember(
-          {"section", "stereo", "sheet", "frames", "cloud", "wireframe", "stereographic"}));
+  cmd->add_option(
+         "--mode", s->mode,
+         "section (default), stereo, sheet, frames, cloud, wireframe, stereographic, schlegel")
+      ->check(CLI::IsMember({"section", "stereo", "sheet", "frames", "cloud", "wireframe",
+                             "stereographic", "schlegel"}));
   cmd->add_option("--offset", s->offset, "section/stereo: signed distance d of the plane n.x = d")
       ->type_name("D");
   cmd->add_option("-o,--output", s->output, "Output PNG (frames: NAME.png -> NAME_0000.png, ...)")
@@ -258,8 +487,56 @@ void add_render_command(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1.0, 170.0));
   cmd->add_flag("--no-occlusion", s->no_occlusion, "wireframe: draw hidden edges too");
   cmd->add_flag("--lines", s->lines, "stereographic: lines instead of tubes");
+  cmd->add_option("--texture", s->textures,
+                  "section/stereo/sheet/frames: a 3D texture sampled through the cells' UVW: "
+                  "checker[:S], grid[:S], wood[:S], marble[:S] (S repeats per cell box) or "
+                  "volume:DIR|PATTERN[:S] (PNG slices); prefix object=I: or cell=I: for one "
+                  "scene object or cell (repeatable)")
+      ->type_name("SPEC");
+  cmd->add_option("--light-mode", s->light_mode,
+                  "section/stereo/sheet/frames: 3d (default: lights in the section's space) or "
+                  "4d (lights in 4D, each face lit by its cell's 4D normal)")
+      ->check(CLI::IsMember({"3d", "4d"}));
+  cmd->add_option("--light4", s->lights4,
+                  "A 4D light (implies --light-mode 4d; repeatable): X,Y,Z,W towards a "
+                  "directional light, or point:X,Y,Z,W[:R] (intensity (R/r)^3, R = 1)")
+      ->type_name("SPEC");
+  cmd->add_option("--stack", s->stack,
+                  "cloud: the volume axis the layers are stacked along: auto (default: the one "
+                  "most aligned with --view, no stripes at grazing views), u, v or s")
+      ->check(CLI::IsMember({"auto", "u", "v", "s"}));
+  cmd->add_flag("--stereo", s->stereo,
+                "cloud, wireframe: a side-by-side stereo pair (left eye left), the views turned "
+                "by -/+3 degrees");
+  cmd->add_flag("--section", s->with_section,
+                "wireframe: also draw the section n.x = d (--normal, default 0,0,0,1; --offset) "
+                "inside the wireframe, translucent");
+  cmd->add_option("--eye4-at", s->eye4_at_text,
+                  "wireframe: put the 4D camera at this point (it may be inside a polytope: "
+                  "then only that polytope's inside is seen), looking at --look4")
+      ->type_name("X,Y,Z,W");
+  cmd->add_option("--look4", s->look4_text,
+                  "wireframe: the point the 4D camera looks at (default: the scene's centre)")
+      ->type_name("X,Y,Z,W");
+  cmd->add_option("--animate", s->animate,
+                  "section: write an animated WebP (-o NAME.webp) of a sweep across the input, "
+                  "rotate:PLANE (every object turned once about the origin, e.g. rotate:xw) or "
+                  "orbit (the 3D camera once around the section)")
+      ->type_name("KIND");
+  cmd->add_option("--frames", s->frames, "--animate: number of frames (36)")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--frame-ms", s->frame_ms, "--animate: milliseconds per frame (80)")
+      ->check(CLI::Range(1, 60000));
+  cmd->add_option("--method", s->method,
+                  "section: cw (default: the CW slicer) or tet (cut the model's tetrahedra)")
+      ->check(CLI::IsMember({"cw", "tet"}));
   cmd->add_option("--separation", s->separation,
                   "stereo: eye distance in section units (default 6% of the section's diameter)");
+  cmd->add_option("--cell", s->cell,
+                  "schlegel: the cell the eye looks through (default: the one facing +w most)")
+      ->type_name("N")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--faces", s->faces, "schlegel: draw the faces too, translucent");
   cmd->footer(
       "Modes:\n"
       "  section        the section n.x = d, shaded (Blinn-Phong), cell colors (scene colors,\n"
@@ -274,13 +551,21 @@ void add_render_command(CLI::App& app, Commands& commands) {
       "                 its frustum, hidden parts removed (convex objects occlude), colored by 4D\n"
       "                 depth (near orange, far blue), inside the retina cube\n"
       "  stereographic  the edges projected from the 3-sphere, as tubes (or --lines)\n"
-      "--normal is required except for wireframe and stereographic. Output is always PNG (sRGB),\n"
-      "written through a temporary file. An empty section exits 5.\n"
+      "  schlegel       the Schlegel diagram: every edge in perspective from just outside one\n"
+      "                 cell (--cell), projected into it; --faces adds translucent faces; no\n"
+      "                 --normal needed\n"
+      "Sections (section, stereo, sheet, frames) take --texture (3D textures through the cells'\n"
+      "UVW) and --light-mode 4d / --light4 (lights in 4D, faces lit by their cells' 4D normals).\n"
+      "--normal is required except for wireframe, stereographic and schlegel. Output is PNG\n"
+      "(sRGB; --animate: an animated WebP), written through a temporary file. An empty section\n"
+      "exits 5.\n"
       "Examples:\n"
       "  cw4d render 24-cell --normal 1,1,1,1 --offset 0.3 --edges -o section.png\n"
       "  cw4d render tesseract --mode cloud --normal 0,0,1,1 --rotate xw:20 -o cloud.png\n"
       "  cw4d render 120-cell --mode wireframe -o wire.png\n"
       "  cw4d render 24-cell --mode stereographic --rotate xw:10 -o stereo.png\n"
+      "  cw4d render 24-cell --normal 1,1,1,1 --offset 0.3 --texture marble:2 -o marble.png\n"
+      "  cw4d render tesseract --normal 0,0,0,1 --offset 0.3 --animate rotate:xw -o turn.webp\n"
       "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_render(*s); }});
 }

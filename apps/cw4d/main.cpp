@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   cli::add_list_command(app, commands);
   cli::add_info_command(app, commands);
   cli::add_slice_command(app, commands);
+  cli::add_net_command(app, commands);
   cli::add_sweep_command(app, commands);
   cli::add_render_command(app, commands);
   cli::add_tetrahedralize_command(app, commands);

@@ -474,6 +474,23 @@ std::vector<ModelFamily> default_families() {
     };
     f.push_back(std::move(u));
   }
+  {
+    // Regular star and named non-convex uniform polychora, built from their diagrams.
+    ModelFamily star;
+    star.usage = "STAR-POLYCHORON";
+    star.description =
+        "regular star or named non-convex uniform polychoron (Wythoff construction, edge 2), "
+        "e.g. 'great grand stellated 120-cell', 'grand 600-cell', 'quasitruncated tesseract' "
+        "(every name: README)";
+    star.matches = [](std::string_view lowered) {
+      return star_polychoron_diagram(lowered).has_value();
+    };
+    star.make = [](const std::string& spec, const Catalogue&) {
+      return make_star_polychoron(lower(spec));
+    };
+    for (const NamedDiagram& e : star_polychoron_names()) star.names.emplace_back(e.name);
+    f.push_back(std::move(star));
+  }
   f.push_back(parametric_family("simplex", "simplex:N",
                                 "regular N-simplex, circumradius 1 (N = 2..12)",
                                 [](const std::string& spec, std::string_view a) {

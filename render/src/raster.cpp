@@ -22,20 +22,21 @@ constexpr int kTile = 64;
 constexpr std::size_t kChunk = 2048;  // triangles per geometry work item
 constexpr int kMaxSide = 16384;
 
-// Interpolated per vertex: world position, normal, color.
+// Interpolated per vertex: world position, normal, color, texture coordinates.
 struct Attr {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f};
   glm::vec4 color{0.0f};
+  glm::vec3 uvw{0.0f};
 };
 
 Attr lerp(const Attr& a, const Attr& b, float t) {
   return {a.position + t * (b.position - a.position), a.normal + t * (b.normal - a.normal),
-          a.color + t * (b.color - a.color)};
+          a.color + t * (b.color - a.color), a.uvw + t * (b.uvw - a.uvw)};
 }
 
 Attr scaled(const Attr& a, float s) {
-  return {a.position * s, a.normal * s, a.color * s};
+  return {a.position * s, a.normal * s, a.color * s, a.uvw * s};
 }
 
 struct ClipVertex {
@@ -52,6 +53,8 @@ struct ScreenTriangle {
   std::array<Attr, 3> attr;  // attr / w
   int x0, y0, x1, y1;        // pixel bounding box, inclusive, inside the image
   std::uint32_t draw;
+  glm::vec4 normal4{0.0f};             // flat, for 4D lighting
+  const Texture3D* texture = nullptr;  // flat
 };
 
 struct DrawState {
@@ -174,9 +177,44 @@ bool setup(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, 
   return true;
 }
 
-glm::vec4 shade(const DrawState& d, const Attr& a) {
-  const glm::vec4 base = a.color;
+// The same Blinn-Phong in 4D: position and viewer lifted into the hyperplane, N the 4D normal.
+glm::vec4 shade4(const DrawState& d, const Attr& a, const glm::vec4& base, glm::vec4 normal4) {
+  const Lighting& lit = d.lighting;
+  const glm::vec3 v3 = d.view.to_viewer(a.position);
+  if (!(glm::dot(normal4, normal4) > 0.0f)) normal4 = lit.basis4 * a.normal;
+  glm::vec4 n = glm::normalize(normal4);
+  if (glm::dot(a.normal, v3) < 0.0f) n = -n;  // two-sided, decided by the side the viewer sees
+  const glm::vec4 p = lit.origin4 + lit.basis4 * a.position;
+  const glm::vec4 v = lit.basis4 * v3;
+  glm::vec3 c = lit.ambient * glm::vec3(base);
+  for (const Light4& light : lit.lights4) {
+    glm::vec4 l = light.vector;
+    float intensity = 1.0f;
+    if (light.kind == Light4::Kind::Point) {
+      l = light.vector - p;
+      const float r = std::max(glm::length(l), 1e-3f * light.reference);
+      const float q = light.reference / r;
+      intensity = q * q * q;
+    }
+    const float len = glm::length(l);
+    if (!(len > 0.0f)) continue;
+    l /= len;
+    const float diffuse = glm::dot(n, l);
+    if (diffuse <= 0.0f) continue;
+    const glm::vec4 h = glm::normalize(l + v);
+    const float nh = glm::dot(n, h);
+    const float spec =
+        nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
+    c += intensity * light.color * (glm::vec3(base) * diffuse + glm::vec3(spec));
+  }
+  return glm::vec4(c, base.a);
+}
+
+glm::vec4 shade(const DrawState& d, const Attr& a, const ScreenTriangle& t) {
+  glm::vec4 base = a.color;
+  if (t.texture) base = glm::vec4(t.texture->apply(glm::vec3(base), a.uvw), base.a);
   if (d.options.shading == Shading::Unlit || glm::dot(a.normal, a.normal) <= 0.0f) return base;
+  if (d.lighting.four_d) return shade4(d, a, base, t.normal4);
   glm::vec3 n = glm::normalize(a.normal);
   const glm::vec3 v = d.view.to_viewer(a.position);
   if (glm::dot(n, v) < 0.0f) n = -n;  // two-sided: light the side the viewer sees
@@ -242,7 +280,8 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
       (b[0] * t.attr[0].position + b[1] * t.attr[1].position + b[2] * t.attr[2].position) * wgt;
   a.normal = (b[0] * t.attr[0].normal + b[1] * t.attr[1].normal + b[2] * t.attr[2].normal) * wgt;
   a.color = (b[0] * t.attr[0].color + b[1] * t.attr[1].color + b[2] * t.attr[2].color) * wgt;
-  return shade(d, a);
+  if (t.texture) a.uvw = (b[0] * t.attr[0].uvw + b[1] * t.attr[1].uvw + b[2] * t.attr[2].uvw) * wgt;
+  return shade(d, a, t);
 }
 
 }  // namespace
@@ -356,7 +395,7 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  for (auto id : tri) {
                    const Vertex& v = mesh.vertices[id];
                    ClipVertex cv{view.clip_from_world * glm::vec4(v.position, 1.0f),
-                                 {v.position, v.normal, v.color}};
+                                 {v.position, v.normal, v.color, v.uvw}};
                    const unsigned code = outcode(cv.clip);
                    all &= code;
                    any |= code;
@@ -367,11 +406,15 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  if (poly.size() < 3) continue;
                  screen.clear();
                  for (const auto& cv : poly) screen.push_back(to_screen(cv, w, h));
+                 const Vertex& flat = mesh.vertices[tri[0]];
                  for (std::size_t k = 1; k + 1 < screen.size(); ++k) {
                    ScreenTriangle st;
                    if (setup(screen[0], screen[k], screen[k + 1], options.cull_back_faces, w, h,
-                             draw_id, st))
+                             draw_id, st)) {
+                     st.normal4 = flat.normal4;
+                     st.texture = flat.texture;
                      out.push_back(st);
+                   }
                  }
                }
              });
@@ -396,8 +439,8 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
             a += options.pull_toward_viewer * view.to_viewer(a);
             b += options.pull_toward_viewer * view.to_viewer(b);
           }
-          ClipVertex ca{view.clip_from_world * glm::vec4(a, 1.0f), {a, {}, s.color_a}};
-          ClipVertex cb{view.clip_from_world * glm::vec4(b, 1.0f), {b, {}, s.color_b}};
+          ClipVertex ca{view.clip_from_world * glm::vec4(a, 1.0f), {a, {}, s.color_a, {}}};
+          ClipVertex cb{view.clip_from_world * glm::vec4(b, 1.0f), {b, {}, s.color_b, {}}};
           // Liang-Barsky in homogeneous coordinates.
           float t0 = 0.0f, t1 = 1.0f;
           bool visible = true;

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/render/color.hpp"
+#include "cw4d/section/uvw.hpp"
 
 namespace cw4d::render {
 
@@ -33,7 +35,99 @@ void for_each_world_vertex_block(const Scene& scene, F&& f) {
   }
 }
 
+// The world-space unit outward normal of 3-cell `cell` of a placed model: the model's facet
+// normal through the inverse transpose of the placement.
+glm::vec4 world_normal4(const SceneObject& obj, std::uint32_t cell) {
+  const Complex& m = *obj.complex;
+  if (!m.has_facet_normals() || cell >= m.facet_normals().cols() || m.ambient_dim() != 4)
+    return glm::vec4(0.0f);
+  const Eigen::VectorXd n =
+      obj.transform.linear().inverse().transpose() * m.facet_normals().col(cell);
+  const double len = n.norm();
+  if (!(len > 0.0)) return glm::vec4(0.0f);
+  return {static_cast<float>(n(0) / len), static_cast<float>(n(1) / len),
+          static_cast<float>(n(2) / len), static_cast<float>(n(3) / len)};
+}
+
+glm::vec4 cell_color(const Complex* model, std::uint32_t cell) {
+  if (model && model->colors(3).size() == model->count(3) && cell < model->count(3))
+    return to_linear(model->colors(3)[cell]);
+  return glm::vec4(palette_color(cell), 1.0f);
+}
+
 }  // namespace
+
+TriangleMesh section_mesh(const Section& section, const Complex* model, const Scene& source,
+                          const TextureAssignment* textures) {
+  TriangleMesh mesh = section_mesh(section, model);
+  const Complex& c = section.complex;
+  if (mesh.vertices.empty()) return mesh;
+  const std::size_t nf = c.count(2);
+  if (section.source.size() <= 2 || section.source[2].size() != nf)
+    throw InputError("4D light and textures need the section's provenance (cut it with section())");
+  const bool per_object = section.object_of_face.size() == nf;
+  std::vector<const Complex*> models;
+  for (const auto& o : source.objects) models.push_back(o.complex.get());
+  if (models.empty())
+    throw InputError("4D light and textures need the scene the section came from");
+  const bool textured = textures && !textures->empty();
+  CornerUvw uvw;
+  if (textured) uvw = section_uvw(section, models);
+  // section_mesh emits, for every face with >= 3 corners in order, one vertex per corner.
+  std::size_t v = 0;
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::size_t corners = c.face_cycle(f).size();
+    if (corners < 3) continue;
+    const std::uint32_t object = per_object ? section.object_of_face[f] : 0u;
+    if (object >= source.objects.size())
+      throw InputError("section face from scene object " + std::to_string(object) +
+                       ", which the scene lacks");
+    const std::uint32_t cell = section.source[2][f];
+    const glm::vec4 n4 = world_normal4(source.objects[object], cell);
+    const Texture3D* tex = textured ? textures->find(object, cell) : nullptr;
+    for (std::size_t j = 0; j < corners; ++j, ++v) {
+      Vertex& vert = mesh.vertices[v];
+      vert.normal4 = n4;
+      if (tex) {
+        const auto col = uvw.uvw.col(uvw.offset[f] + j);
+        vert.uvw = glm::vec3(col(0), col(1), col(2));
+        vert.texture = tex;
+      }
+    }
+  }
+  return mesh;
+}
+
+TriangleMesh soup_mesh(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
+                       const Eigen::Matrix3Xd& uvw, const std::vector<std::uint32_t>& cell,
+                       const SceneObject& object, const TextureAssignment* textures) {
+  const std::size_t nt = cell.size();
+  if (positions.cols() != static_cast<Eigen::Index>(3 * nt) || normals.cols() != positions.cols() ||
+      uvw.cols() != positions.cols())
+    throw InputError("triangle soup: positions, normals and uvw need 3 columns per triangle");
+  TriangleMesh mesh;
+  mesh.vertices.reserve(3 * nt);
+  mesh.triangles.reserve(nt);
+  const bool textured = textures && !textures->empty();
+  for (std::size_t i = 0; i < nt; ++i) {
+    const glm::vec4 color = cell_color(object.complex.get(), cell[i]);
+    const glm::vec4 n4 = world_normal4(object, cell[i]);
+    const Texture3D* tex = textured ? textures->find(0, cell[i]) : nullptr;
+    const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Index col = static_cast<Eigen::Index>(3 * i + k);
+      Vertex v{to_glm(positions.col(col)), to_glm(normals.col(col)), color};
+      v.normal4 = n4;
+      if (tex) {
+        v.uvw = to_glm(uvw.col(col));
+        v.texture = tex;
+      }
+      mesh.vertices.push_back(v);
+    }
+    mesh.triangles.push_back({first, first + 1, first + 2});
+  }
+  return mesh;
+}
 
 TriangleMesh section_mesh(const Section& section, const Complex* model) {
   require_3d(section);
@@ -99,6 +193,20 @@ FrameSphere bounding_frame(const Section& section) {
   return s;
 }
 
+FrameSphere bounding_frame(const TriangleMesh& mesh) {
+  FrameSphere s;
+  if (mesh.vertices.empty()) return s;
+  glm::vec3 lo = mesh.vertices.front().position, hi = lo;
+  for (const auto& v : mesh.vertices) {
+    lo = glm::min(lo, v.position);
+    hi = glm::max(hi, v.position);
+  }
+  s.centre = 0.5f * (lo + hi);
+  for (const auto& v : mesh.vertices)
+    s.radius = std::max(s.radius, glm::length(v.position - s.centre));
+  return s;
+}
+
 FrameSphere scene_frame(const Scene& scene, const HyperplaneFrame& frame) {
   FrameSphere s;
   if (scene.objects.empty()) return s;
@@ -146,14 +254,50 @@ Camera section_camera(const Section& section, const SectionViewOptions& o) {
   return Camera::framing(f.centre, f.radius, o.view_from, aspect, o.projection, o.fov_y_degrees);
 }
 
-Image render_section(const Section& section, const SectionViewOptions& o, const Camera& camera,
-                     const Complex* model, bool flatten) {
+std::vector<Light4> default_lights4(const Camera& camera, const HyperplaneFrame& frame) {
+  const Lighting studio = Lighting::studio(camera);
+  const Eigen::VectorXd& n = frame.plane.normal;
+  std::vector<Light4> out;
+  const double tilt = 40.0 * std::numbers::pi / 180.0;
+  for (std::size_t i = 0; i < 2 && i < studio.lights.size(); ++i) {
+    const glm::vec3 l = studio.lights[i].vector;
+    const Eigen::VectorXd in_plane = frame.basis * Eigen::Vector3d(l.x, l.y, l.z);
+    const Eigen::VectorXd d =
+        std::cos(tilt) * in_plane.normalized() + (i == 0 ? 1.0 : -1.0) * std::sin(tilt) * n;
+    Light4 light;
+    light.vector = {static_cast<float>(d(0)), static_cast<float>(d(1)), static_cast<float>(d(2)),
+                    static_cast<float>(d(3))};
+    light.color = studio.lights[i].color;
+    out.push_back(light);
+  }
+  return out;
+}
+
+Lighting section_lighting(const Camera& camera, const HyperplaneFrame& frame,
+                          const SectionViewOptions& o) {
+  Lighting lighting = Lighting::studio(camera);
+  if (!o.light_4d) return lighting;
+  if (frame.basis.rows() != 4 || frame.basis.cols() != 3)
+    throw InputError("4D light needs the section of a 4D model");
+  lighting.four_d = true;
+  lighting.lights.clear();
+  lighting.lights4 = o.lights4.empty() ? default_lights4(camera, frame) : o.lights4;
+  const Eigen::VectorXd origin = frame.origin();
+  lighting.origin4 = {static_cast<float>(origin(0)), static_cast<float>(origin(1)),
+                      static_cast<float>(origin(2)), static_cast<float>(origin(3))};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 4; ++r) lighting.basis4[c][r] = static_cast<float>(frame.basis(r, c));
+  return lighting;
+}
+
+Image render_mesh(const TriangleMesh& mesh, const std::vector<LineSegment>& edges,
+                  const HyperplaneFrame& frame, const SectionViewOptions& o, const Camera& camera,
+                  bool flatten) {
   RasterOptions ro = o.raster;
   ro.background = glm::vec4(0.0f);
   Rasterizer r(ro);
   const View view = camera.view(r.aspect());
-  const Lighting lighting = Lighting::studio(camera);
-  const TriangleMesh mesh = section_mesh(section, model);
+  const Lighting lighting = section_lighting(camera, frame, o);
   // Opaque faces first with depth writes, then translucent ones blended back to front.
   TriangleMesh opaque, translucent;
   opaque.vertices = translucent.vertices = mesh.vertices;
@@ -162,14 +306,14 @@ Image render_section(const Section& section, const SectionViewOptions& o, const 
   DrawOptions d;
   d.cull_back_faces = o.cull_back_faces;
   if (!opaque.triangles.empty()) r.draw(opaque, view, lighting, d);
-  if (o.edges) {
+  if (o.edges && !edges.empty()) {
     DrawOptions e;
     e.shading = Shading::Unlit;
     e.line_width = o.edge_width;
     const float dist = glm::length(camera.eye - camera.target);
     e.pull_toward_viewer =
         2e-3f * (camera.projection == Projection::Orthographic ? camera.ortho_height : dist);
-    r.draw_lines(section_edges(section, o.edge_color), view, e);
+    r.draw_lines(edges, view, e);
   }
   if (!translucent.triangles.empty()) {
     d.blend = Blend::Over;
@@ -178,6 +322,18 @@ Image render_section(const Section& section, const SectionViewOptions& o, const 
   Image img = r.render();
   if (flatten) img.flatten(o.background);
   return img;
+}
+
+Image render_section(const Section& section, const SectionViewOptions& o, const Camera& camera,
+                     const Complex* model, bool flatten) {
+  if (!o.source && (o.light_4d || !o.textures.empty()))
+    throw InputError("4D light and textures need the scene the section was cut from (source)");
+  const bool decorate = o.source && (o.light_4d || !o.textures.empty());
+  const TriangleMesh mesh = decorate ? section_mesh(section, model, *o.source, &o.textures)
+                                     : section_mesh(section, model);
+  const std::vector<LineSegment> edges =
+      o.edges ? section_edges(section, o.edge_color) : std::vector<LineSegment>{};
+  return render_mesh(mesh, edges, section.frame, o, camera, flatten);
 }
 
 Image render_section(const Section& section, const SectionViewOptions& options,

@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/render/color.hpp"
+#include "cw4d/render/section_view.hpp"
 #include "cw4d/render/tolerances.hpp"
 
 namespace cw4d::render {
@@ -246,8 +248,27 @@ Eigen::VectorXd Camera4::project(const Eigen::VectorXd& x) const {
   return q.head(n - 1) / (q(n - 1) * t);
 }
 
+namespace {
+
+// Whether anything in the ball (m, h) can lie in the shadow of the ball (c, r) seen from `eye`:
+// the cone of rays from the eye through the ball, beyond its nearest point. Conservative: true
+// when unsure (an eye inside either ball).
+bool may_be_shadowed(const Eigen::VectorXd& eye, const Eigen::VectorXd& c, double r,
+                     const Eigen::VectorXd& m, double h) {
+  const Eigen::VectorXd to_c = c - eye, to_m = m - eye;
+  const double dc = to_c.norm(), dm = to_m.norm();
+  const double slack = 1e-9 * (dc + dm + r + h);
+  if (dc <= r + slack || dm <= h + slack) return true;
+  if (dm + h < dc - r - slack) return false;  // wholly in front of the occluder
+  const double alpha = std::asin(std::min(1.0, r / dc)), beta = std::asin(std::min(1.0, h / dm));
+  const double cos_angle = std::clamp(to_c.dot(to_m) / (dc * dm), -1.0, 1.0);
+  return std::acos(cos_angle) <= alpha + beta + 1e-9;
+}
+
+}  // namespace
+
 std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& camera, bool occlusion,
-                                          double margin_rel) {
+                                          double margin_rel, bool bounding_pretests) {
   if (camera.dim() != scene.dim())
     throw InputError("the camera lives in R^" + std::to_string(camera.dim()) + ", the scene in R^" +
                      std::to_string(scene.dim()));
@@ -271,15 +292,42 @@ std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& cam
                           : ConvexOccluder::Shadow{});
   const auto frustum = camera.frustum();
   std::vector<VisibleSegment> out;
+  std::vector<std::uint32_t> candidates;  // occluders that may hide part of object i
   for (std::uint32_t i = 0; i < worlds.size(); ++i) {
     const Complex& w = worlds[i];
     if (w.top_rank() < 1) continue;
+    // Bounding-sphere pre-tests: an occluder whose shadow cone misses the object's ball (or an
+    // edge's ball) cannot hide it, so the exact culling runs only where it may matter.
+    candidates.clear();
+    Eigen::VectorXd centre = Eigen::VectorXd::Zero(camera.dim());
+    double radius = 0.0;
+    if (bounding_pretests && w.count(0) > 0) {
+      const auto& p = w.positions();
+      centre = 0.5 * (p.rowwise().minCoeff() + p.rowwise().maxCoeff());
+      radius = (p.colwise() - centre).colwise().norm().maxCoeff();
+    }
+    for (std::uint32_t j = 0; j < occluders.size(); ++j) {
+      if (!occluders[j]) continue;
+      if (bounding_pretests && !shadows[j].eye_inside && j != i &&
+          !may_be_shadowed(camera.eye, occluders[j]->centre(), occluders[j]->radius(), centre,
+                           radius))
+        continue;
+      candidates.push_back(j);
+    }
     for (std::uint32_t e = 0; e < w.count(1); ++e) {
       const auto [ta, hb] = w.edge(e);
       const Eigen::VectorXd a = w.position(ta), b = w.position(hb);
       Intervals vis = clip_to_halfspaces(a, b, frustum);
-      for (std::size_t j = 0; j < occluders.size() && !vis.empty(); ++j)
-        if (occluders[j]) vis = occluders[j]->cull(a, b, vis, shadows[j]);
+      if (vis.empty()) continue;
+      const Eigen::VectorXd mid = 0.5 * (a + b);
+      const double half = 0.5 * (b - a).norm();
+      for (std::size_t k = 0; k < candidates.size() && !vis.empty(); ++k) {
+        const std::uint32_t j = candidates[k];
+        if (bounding_pretests && !shadows[j].eye_inside &&
+            !may_be_shadowed(camera.eye, occluders[j]->centre(), occluders[j]->radius(), mid, half))
+          continue;
+        vis = occluders[j]->cull(a, b, vis, shadows[j]);
+      }
       for (const auto& [t0, t1] : vis) out.push_back({a + t0 * (b - a), a + t1 * (b - a), i, e});
     }
   }
@@ -347,9 +395,59 @@ Image render_wireframe(const Scene& scene, const Camera4& camera, const Wirefram
     bd.line_width = 1.0f;
     r.draw_lines(box, view, bd);
   }
+  if (o.section && !o.section->empty()) {
+    // The section's faces in 4D, through the 4D camera to the retina.
+    const Section& sec = *o.section;
+    const TriangleMesh flat = section_mesh(sec);
+    TriangleMesh mesh;
+    const double near_depth = camera.near_plane;
+    auto depth_of = [&](const Eigen::VectorXd& x) {
+      return (x - camera.eye).dot(camera.frame.col(camera.dim() - 1));
+    };
+    for (const auto& t : flat.triangles) {
+      Vertex v[3];
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3 p = flat.vertices[t[k]].position;
+        const Eigen::VectorXd x = sec.frame.lift(Eigen::Vector3d(p.x, p.y, p.z));
+        if (!(depth_of(x) > near_depth)) {
+          inside = false;
+          break;
+        }
+        v[k].position = to_glm3(camera.project(x));
+        v[k].color = flat.vertices[t[k]].color;
+        v[k].color.a *= o.section_opacity;
+      }
+      if (!inside) continue;
+      const glm::vec3 n = glm::cross(v[1].position - v[0].position, v[2].position - v[0].position);
+      const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+      for (auto& vk : v) {
+        vk.normal = n;
+        mesh.vertices.push_back(vk);
+      }
+      mesh.triangles.push_back({first, first + 1, first + 2});
+    }
+    DrawOptions sd;
+    sd.blend = Blend::Over;
+    r.draw(mesh, view, Lighting::studio(cam3), sd);
+  }
   Image img = r.render();
   img.flatten(o.background);
   return img;
+}
+
+Image render_wireframe_stereo_pair(const Scene& scene, const Camera4& camera,
+                                   const WireframeOptions& o, float angle_degrees) {
+  Image pair(2 * o.raster.width, o.raster.height, glm::vec4(o.background, 1.0f));
+  for (int side = 0; side < 2; ++side) {
+    const float a = glm::radians((side == 0 ? -0.5f : 0.5f) * angle_degrees);
+    WireframeOptions one = o;
+    // About the retina's up axis (y), as the eyes of a viewer standing upright.
+    one.view_from = glm::vec3(glm::rotate(glm::mat4(1.0f), a, glm::vec3(0.0f, 1.0f, 0.0f)) *
+                              glm::vec4(o.view_from, 0.0f));
+    pair.blit(render_wireframe(scene, camera, one), side * o.raster.width, 0);
+  }
+  return pair;
 }
 
 }  // namespace cw4d::render

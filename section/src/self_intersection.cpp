@@ -15,10 +15,12 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 
 // The faces of a surface in flat arrays: face f's cycle is [off[f], off[f+1]) of `pts` (its
-// corners) and of `ids` (its vertex ids, sorted, for the neighbour test).
+// corners), of `cyc` (their vertex ids in cycle order) and of `ids` (the same ids, sorted, for
+// the shared-vertex test).
 struct Faces {
-  std::vector<std::uint32_t> off, ids;
+  std::vector<std::uint32_t> off, cyc, ids;
   std::vector<Vec3> pts, normal, lo, hi;
+  std::vector<char> convex;  // strictly_convex
 };
 
 // Strict interior of face f's planar polygon, tested in the coordinate plane that drops the
@@ -38,31 +40,97 @@ bool inside(const Faces& F, std::uint32_t f, const Vec3& x) {
   return in;
 }
 
-// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`).
-bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps) {
+// Some boundary edge of f passes through the interior of g (beyond the tolerance `eps`). The
+// edges of f ending at one of the k vertices `shared` with g are not tested: such an edge meets
+// g's plane at that corner, on g's boundary, so it cannot pierce g; a crossing of the two faces
+// beyond their shared corners passes through an edge of one of them that ends at no shared
+// corner (their intersection leaves the face it ends in through such an edge), or runs along
+// the segment between two shared corners (chord_crosses).
+bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps,
+                  const std::uint32_t* shared, int k) {
   const Vec3& g0 = F.pts[F.off[g]];
   const Vec3& gn = F.normal[g];
   const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  auto is_shared = [&](std::uint32_t v) { return std::find(shared, shared + k, v) != shared + k; };
+  // (edge i runs from corner i to corner j = i + 1; each corner's distance is computed once)
+  double sp = gn.dot(F.pts[b] - g0);
   for (std::uint32_t i = 0; i < n; ++i) {
-    const Vec3 &p = F.pts[b + i], &q = F.pts[b + (i + 1) % n];
-    const double sp = gn.dot(p - g0), sq = gn.dot(q - g0);
-    if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) continue;
-    const Vec3 x = p + (sp / (sp - sq)) * (q - p);
+    const std::uint32_t j = i + 1 == n ? 0 : i + 1;
+    const Vec3 &p = F.pts[b + i], &q = F.pts[b + j];
+    const double sq = gn.dot(q - g0);
+    const double s = sp;
+    sp = sq;
+    if (!((s > eps && sq < -eps) || (s < -eps && sq > eps))) continue;
+    if (k > 0 && (is_shared(F.cyc[b + i]) || is_shared(F.cyc[b + j]))) continue;
+    const Vec3 x = p + (s / (s - sq)) * (q - p);
     if (inside(F, g, x)) return true;
   }
   return false;
 }
 
-// Whether the sorted id lists of faces f and g share a vertex.
-bool share_vertex(const Faces& F, std::uint32_t f, std::uint32_t g) {
+// The vertices faces f and g share (up to 8, from their sorted id lists) into `out`; their count.
+int shared_vertices(const Faces& F, std::uint32_t f, std::uint32_t g, std::uint32_t* out) {
+  int k = 0;
   std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
-  while (i < ie && j < je) {
-    if (F.ids[i] == F.ids[j]) return true;
-    if (F.ids[i] < F.ids[j])
+  while (i < ie && j < je && k < 8) {
+    if (F.ids[i] == F.ids[j])
+      out[k++] = F.ids[i], ++i, ++j;
+    else if (F.ids[i] < F.ids[j])
       ++i;
     else
       ++j;
   }
+  return k;
+}
+
+// Whether x lies inside face f farther than eps from each of its edges.
+bool deep_inside(const Faces& F, std::uint32_t f, const Vec3& x, double eps) {
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 &p = F.pts[b + i], d = F.pts[b + (i + 1) % n] - p;
+    const double t = std::clamp(d.dot(x - p) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    if ((p + t * d - x).norm() <= eps) return false;
+  }
+  return inside(F, f, x);
+}
+
+// Whether vertices u and w follow each other on face f's cycle.
+bool on_cycle(const Faces& F, std::uint32_t f, std::uint32_t u, std::uint32_t w) {
+  const std::uint32_t b = F.off[f], n = F.off[f + 1] - b;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t x = F.cyc[b + i], y = F.cyc[b + (i + 1) % n];
+    if ((x == u && y == w) || (x == w && y == u)) return true;
+  }
+  return false;
+}
+
+// Faces f and g that are not coplanar and share two vertices u and w meet along the segment uw
+// (it lies in both planes). Unless uw is an edge of both, the faces cross there when its midpoint
+// is on each face: on an edge uw of it, or inside it beyond eps. (In the icosahedral 120-cell
+// {3,5,5/2} two icosahedral cells share the five edges of a pentagon, the vertex figure of both,
+// whose disc lies inside both: they pass through each other there, and a plane cuts them in two
+// polygons crossing along the chord between their cuts of two pentagon edges. No edge of either
+// polygon pierces the other.)
+bool chord_crosses(const Faces& F, std::uint32_t f, std::uint32_t g, double eps,
+                   const std::uint32_t* shared, int k) {
+  if (k < 2 ||
+      (k == 2 && on_cycle(F, f, shared[0], shared[1]) && on_cycle(F, g, shared[0], shared[1])))
+    return false;  // (a common edge, the usual neighbours)
+  if (F.normal[f].cross(F.normal[g]).norm() <= tol::self_intersection_rel) return false;
+  auto corner = [&](std::uint32_t h, std::uint32_t v) -> const Vec3& {
+    std::uint32_t c = F.off[h];
+    while (F.cyc[c] != v) ++c;
+    return F.pts[c];
+  };
+  for (int a = 0; a < k; ++a)
+    for (int c = a + 1; c < k; ++c) {
+      const std::uint32_t u = shared[a], w = shared[c];
+      const bool edge_f = on_cycle(F, f, u, w), edge_g = on_cycle(F, g, u, w);
+      if (edge_f && edge_g) continue;
+      const Vec3 m = 0.5 * (corner(f, u) + corner(f, w));
+      if ((edge_f || deep_inside(F, f, m, eps)) && (edge_g || deep_inside(F, g, m, eps)))
+        return true;
+    }
   return false;
 }
 
@@ -110,9 +178,11 @@ bool self_intersects(const Complex& surface) {
   const Eigen::MatrixXd& P = surface.positions();
   F.off.resize(nf + 1);
   F.off[0] = 0;
+  F.cyc.clear();
   F.ids.clear();
   F.pts.clear();
   F.normal.resize(nf);
+  F.convex.resize(nf);
   F.lo.resize(nf);
   F.hi.resize(nf);
   Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
@@ -124,6 +194,7 @@ bool self_intersects(const Complex& surface) {
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const auto e = edges.ids(ids[i]);
       const std::uint32_t v = signs[i] > 0 ? e[0] : e[1];
+      F.cyc.push_back(v);
       F.ids.push_back(v);
       F.pts.push_back(P.col(v));
     }
@@ -131,7 +202,8 @@ bool self_intersects(const Complex& surface) {
     F.off[f + 1] = b + n;
     Vec3 area = Vec3::Zero();
     for (std::uint32_t i = 0; i < n; ++i) area += F.pts[b + i].cross(F.pts[b + (i + 1) % n]);
-    if (!strictly_convex(&F.pts[b], n, area) && !is_simple_face(surface, f)) return true;
+    F.convex[f] = strictly_convex(&F.pts[b], n, area);
+    if (!F.convex[f] && !is_simple_face(surface, f)) return true;
     F.normal[f] = area.normalized();
     Vec3 flo = F.pts[b], fhi = F.pts[b];
     for (std::uint32_t i = 1; i < n; ++i)
@@ -146,8 +218,8 @@ bool self_intersects(const Complex& surface) {
   // Pairs of faces whose boxes (grown by eps) overlap, through a uniform grid of cells of about
   // the mean face extent: each face is listed in the cells its box covers, and a pair is
   // tested in the one cell holding the lower corner of the two boxes' intersection. Faces
-  // sharing a vertex are neighbours of a surface and are not compared (a crossing between them
-  // is not detected).
+  // sharing vertices are compared too: by their edges away from the shared corners, and along
+  // the segments joining two shared corners (chord_crosses).
   double mean = 0.0;
   for (std::uint32_t f = 0; f < nf; ++f) mean += (F.hi[f] - F.lo[f]).maxCoeff();
   mean = nf > 0 ? mean / nf : 0.0;
@@ -210,8 +282,14 @@ bool self_intersects(const Complex& surface) {
              glo.x() > fhi.x() + eps || glo.y() > fhi.y() + eps || glo.z() > fhi.z() + eps);
   };
   auto test = [&](std::uint32_t f, std::uint32_t q) {
-    if (share_vertex(F, f, q)) return false;
-    return edge_pierces(F, f, q, eps) || edge_pierces(F, q, f, eps);
+    std::uint32_t shared[8];
+    const int k = shared_vertices(F, f, q, shared);
+    // Two convex faces with a common edge meet only in it (the line of their planes' meeting).
+    if (k == 2 && F.convex[f] && F.convex[q] && on_cycle(F, f, shared[0], shared[1]) &&
+        on_cycle(F, q, shared[0], shared[1]))
+      return false;
+    return edge_pierces(F, f, q, eps, shared, k) || edge_pierces(F, q, f, eps, shared, k) ||
+           chord_crosses(F, f, q, eps, shared, k);
   };
   for (std::size_t c = 0; c < ncell; ++c)
     for (std::uint32_t i = cell_off[c]; i < cell_off[c + 1]; ++i) {

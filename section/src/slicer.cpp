@@ -63,6 +63,36 @@ bool visit_marked(std::vector<std::uint64_t>& bits, std::uint32_t b, std::uint32
   return true;
 }
 
+// Calls f(x) for every nonzero byte x of [b, e), in increasing order, zeroing those bytes (eight
+// at a time); stops (returning false) when f does. Byte marks are set with plain stores, where
+// bit marks need a read-modify-write of a shared word per mark.
+template <class F>
+bool visit_marked_bytes(std::uint8_t* marks, std::uint32_t b, std::uint32_t e, F&& f) {
+  std::uint32_t x = b;
+  for (; x < e && (x & 7u); ++x)
+    if (marks[x]) {
+      marks[x] = 0;
+      if (!f(x)) return false;
+    }
+  for (; x + 8 <= e; x += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, marks + x, 8);
+    if (!w) continue;
+    std::memset(marks + x, 0, 8);
+    while (w) {
+      const int bit = __builtin_ctzll(w);
+      w &= ~(std::uint64_t{0xff} << (bit & ~7));
+      if (!f(x + static_cast<std::uint32_t>(bit >> 3))) return false;
+    }
+  }
+  for (; x < e; ++x)
+    if (marks[x]) {
+      marks[x] = 0;
+      if (!f(x)) return false;
+    }
+  return true;
+}
+
 // n.x summed in a fixed order (section/ is built with -ffp-contract=off, so nothing is fused):
 // the fast path's plane value is height - d. Its rounding error is below 5 units in the last
 // place of |n| |x| + |d|, far inside the ON band (tol::plane_side_ulps), so outside the band
@@ -440,6 +470,14 @@ struct Slicer::Placement {
     nm_norm = std::sqrt(nn);
     hyperplane_basis(p.normal.data(), n, basis);
     const int o = n - 1;
+    if (!xf) {
+      // The identity: every sum below adds exact zeros to one term, which leaves that term
+      // (+ 0.0 turns a -0 into the +0 such a sum starts from); the inverse is exact, no reflection.
+      for (int r = 0; r < o; ++r)
+        for (int j = 0; j < n; ++j) M[r * n + j] = N[r * n + j] = basis[r * n + j] + 0.0;
+      reflect = false;
+      return;
+    }
     for (int r = 0; r < o; ++r)
       for (int j = 0; j < n; ++j) {
         double sum = 0.0;
@@ -703,7 +741,14 @@ void Slicer::prepare(const SliceModel& m) {
   const std::size_t nv = m.positions_.size() / m.dim_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
+    std::fill(edge_img_.begin(), edge_img_.end(), 0);
+    std::fill(face_img_.begin(), face_img_.end(), FaceImage{});
     gen_ = 1;
+  }
+  if (top >= 2) {
+    const std::size_t ne = m.ranks_[1].offsets.size() - 1, nf = m.ranks_[2].offsets.size() - 1;
+    if (edge_img_.size() < ne) edge_img_.resize(ne, 0);
+    if (face_img_.size() < nf) face_img_.resize(nf);
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   if (images_.size() < static_cast<std::size_t>(top + 1))
@@ -775,7 +820,29 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     side_[v] = static_cast<std::int8_t>(side);
     return side != Side::On;  // on the plane: symbolic perturbation, the general path
   };
-  if (touched_.size() == nc && nc > 1) {
+  if (touched_.size() == nc && n == 4) {
+    // Every vertex (each belongs to a cluster): one pass without early exits, the same values
+    // and sides as `value` gives.
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
+    const double n0 = pl.nm[0], n1 = pl.nm[1], n2 = pl.nm[2], n3 = pl.nm[3], dm = pl.dm;
+    const double tol = pl.tol;
+    double* sv = s_.data();
+    std::int8_t* sd = side_.data();
+    bool on = false;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      const double* x = P + 4 * v;
+      double h = n0 * x[0];
+      h += n1 * x[1];
+      h += n2 * x[2];
+      h += n3 * x[3];
+      const double sval = h - dm;
+      const std::int8_t sgn = static_cast<std::int8_t>((sval > tol) - (sval < -tol));
+      sv[v] = sval;
+      sd[v] = sgn;
+      on |= sgn == 0;
+    }
+    if (on) return fail(FallbackReason::OnPlane);
+  } else if (touched_.size() == nc && nc > 1) {
     const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
     for (std::uint32_t v = 0; v < nv; ++v)
       if (!value(v)) return fail(FallbackReason::OnPlane);
@@ -783,6 +850,16 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     for (auto c : touched_)
       for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
         if (!value(m.cluster_vertices_[i])) return fail(FallbackReason::OnPlane);
+  }
+  if (kernel_ && n == 4 && m.top_ >= 3) {
+    const int done = kernel_slice(m, pl, out);
+    if (done == 0) return false;
+    if (done > 0) {
+      if (options.reuse_topology) remember(m, pl, out);
+      ++fast_count_;
+      return true;
+    }
+    clear_marks(m);  // something for the generic gathering: it cuts the slice from the start
   }
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
@@ -803,12 +880,229 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   return true;
 }
 
-bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                         bool marked_edges) {
+  // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
+  // polygon per cell whose section edges form one loop: the buffers the generic gathering
+  // writes for such a slice (tested element for element), in the same order, written once.
+  // Each face and cell reads its boundary's images straight from one stamped word per element.
+  start_buffers(m, pl, out);
+  constexpr std::uint64_t kGen = 0xffffffff00000000ull;
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  const std::uint64_t g = std::uint64_t{gen_} << 32;
+  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Rank& F = m.ranks_[2];
+  const SliceModel::Rank& C = m.ranks_[3];
+  const std::uint32_t* edge_ends = E.ids.data();
+  const std::int8_t* side = side_.data();
+  const double* s = s_.data();
+  const double* edge_length = m.edge_length_.data();
+  const double weld = m.weld_;
+  std::uint64_t* edge_img = edge_img_.data();
+  FaceImage* face_img = face_img_.data();
+  // Byte marks of the faces and cells to visit, all zero between slices (cleared by the visits,
+  // or wholly when the kernel stops half way).
+  if (face_mark_.size() < F.offsets.size() - 1) face_mark_.resize(F.offsets.size() - 1, 0);
+  if (cell_mark_.size() < C.offsets.size() - 1) cell_mark_.resize(C.offsets.size() - 1, 0);
+  std::uint8_t* face_marks = face_mark_.data();
+  std::uint8_t* cell_marks = cell_mark_.data();
+  auto stop = [&](int result) {
+    std::fill(face_mark_.begin(), face_mark_.end(), 0);
+    std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
+    return result;
+  };
+  const std::uint32_t* edge_up = m.up_offsets_[1].data();
+  const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
+  const std::uint32_t* face_up = m.up_offsets_[2].data();
+  const std::uint32_t* face_up_ids = m.up_ids_[2].data();
+  // Rank 1: the crossings, in id order cluster by cluster.
+  std::uint32_t cut_faces_bound = 0;
+  for (auto c : touched_) {
+    // The crossing edges first: listed without a branch (the sides are unpredictable), or
+    // those a sweep marked.
+    const std::uint32_t e0 = m.begin_[0][c], e1 = m.begin_[0][c + 1];
+    if (crossing_ids_.size() < e1 - e0) crossing_ids_.resize(e1 - e0);
+    std::uint32_t* list = crossing_ids_.data();
+    std::uint32_t count = 0;
+    if (marked_edges) {
+      visit_marked(mark_[1], e0, e1, [&](std::uint32_t e) {
+        list[count++] = e;
+        return true;
+      });
+    } else {
+      for (std::uint32_t e = e0; e < e1; ++e) {
+        list[count] = e;
+        count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
+      }
+    }
+    const std::uint32_t v0 = static_cast<std::uint32_t>(out.vertex_source.size());
+    out.vertex_source.resize(v0 + count);
+    section_edge_.resize(v0 + count);
+    VertexSource* vs = out.vertex_source.data();
+    std::uint32_t* vertex_edge = section_edge_.data();
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t e = list[i];
+      const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
+      const double t = s[a] / (s[a] - s[b]);
+      const double len = edge_length[e];
+      if (t * len <= weld || (1.0 - t) * len <= weld) {  // near an end: welding, general
+        reason_ = FallbackReason::Weld;
+        return stop(0);
+      }
+      const std::uint32_t v = v0 + i;
+      vs[v] = {E.model_id.empty() ? e : E.model_id[e], 1, t};
+      vertex_edge[v] = e;
+      // The crossing's coefficient in the edge's cut: +1 when the tail is below.
+      edge_img[e] = g | v | (side[a] < 0 ? 0u : kFlip);
+      for (std::uint32_t i = edge_up[e]; i < edge_up[e + 1]; ++i) face_marks[edge_up_ids[i]] = 1;
+      cut_faces_bound += edge_up[e + 1] - edge_up[e];
+    }
+  }
+  if (out.vertex_source.empty()) {
+    clear_to_empty(out, m.dim_ - 1);
+    return 1;
+  }
+  // Rank 2: a face with two crossings of opposite coefficients gives the section edge from the
+  // one with -1 to the one with +1.
+  Incidence::Storage edges = out.boundary[0].storage();
+  edges.ids.resize(2 * std::size_t{cut_faces_bound});
+  std::uint32_t* edge_row = edges.ids.data();
+  std::uint32_t nse = 0, cut_cells_bound = 0;
+  {
+    const std::uint32_t* off = F.offsets.data();
+    const std::uint32_t* ids = F.ids.data();
+    const std::int8_t* signs = F.signs.data();
+    std::vector<std::uint32_t>& src_store = out.source[1];
+    src_store.resize(cut_faces_bound);
+    std::uint32_t* src = src_store.data();
+    auto face = [&](std::uint32_t x) -> bool {
+      std::uint32_t v[2];
+      int coef[2];
+      int cnt = 0;
+      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
+        const std::uint64_t img = edge_img[ids[i]];
+        if ((img & kGen) != g) continue;
+        if (cnt == 2) return false;
+        const std::uint32_t low = static_cast<std::uint32_t>(img);
+        v[cnt] = low & kIndex;
+        coef[cnt] = (low & kFlip) ? signs[i] : -signs[i];
+        ++cnt;
+      }
+      if (cnt != 2 || v[0] == v[1] || coef[0] != -coef[1]) return false;
+      const bool first_is_tail = coef[0] < 0;
+      edge_row[2 * nse] = first_is_tail ? v[0] : v[1];
+      edge_row[2 * nse + 1] = first_is_tail ? v[1] : v[0];
+      face_img[x] = {gen_, nse, edge_row[2 * nse], edge_row[2 * nse + 1]};
+      src[nse] = F.model_id.empty() ? x : F.model_id[x];
+      ++nse;
+      for (std::uint32_t i = face_up[x]; i < face_up[x + 1]; ++i) cell_marks[face_up_ids[i]] = 1;
+      cut_cells_bound += face_up[x + 1] - face_up[x];
+      return true;
+    };
+    for (auto c : touched_)
+      if (!visit_marked_bytes(face_marks, m.begin_[1][c], m.begin_[1][c + 1], face))
+        return stop(-1);
+    src_store.resize(nse);
+  }
+  edges.ids.resize(2 * std::size_t{nse});
+  edges.signs.resize(2 * std::size_t{nse});
+  edges.offsets.resize(std::size_t{nse} + 1);
+  for (std::uint32_t i = 0; i <= nse; ++i) edges.offsets[i] = 2 * i;
+  for (std::uint32_t i = 0; i < nse; ++i) edges.signs[2 * i] = -1, edges.signs[2 * i + 1] = 1;
+  // Rank 3 (the facets): the steps of a cell's section edges, one leaving each section vertex
+  // (stamped per cell), followed from the smallest tail; one loop through every step is the
+  // polygon the generic gathering chains (loops start at the smallest tail, steps follow
+  // heads). A pinch, an open chain or several loops: the generic gathering.
+  const std::size_t nsv = out.vertex_source.size();
+  if (loop_step_.size() < nsv) loop_step_.resize(nsv, LoopStep{0, 0, 0});
+  LoopStep* step = loop_step_.data();
+  Incidence::Storage polys = out.boundary[1].storage();
+  polys.ids.resize(cut_cells_bound);
+  polys.signs.resize(cut_cells_bound);
+  std::uint32_t* poly_ids = polys.ids.data();
+  std::int8_t* poly_signs = polys.signs.data();
+  std::uint32_t entries = 0;
+  const bool above = m.top_ > 3;
+  const bool chains_above = above && !m.single_solid_;
+  {
+    const std::uint32_t* off = C.offsets.data();
+    const std::uint32_t* ids = C.ids.data();
+    const std::int8_t* signs = C.signs.data();
+    std::vector<std::uint32_t>& src_store = out.source[2];
+    src_store.resize(cut_cells_bound);
+    facet_internal_.resize(cut_cells_bound);
+    polys.offsets.resize(std::size_t{cut_cells_bound} + 1);
+    std::uint32_t* src = src_store.data();
+    std::uint32_t* facet = facet_internal_.data();
+    std::uint32_t* poly_off = polys.offsets.data();
+    std::uint32_t npoly = 0;
+    auto cell = [&](std::uint32_t x) -> bool {
+      if (++stamp_ == 0) {  // wrapped: forget every stamp
+        for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
+        stamp_ = 1;
+      }
+      const std::uint32_t st = stamp_;
+      std::uint32_t lo = 0xffffffffu, ns = 0;
+      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
+        const FaceImage img = face_img[ids[i]];
+        if (img.gen != gen_) continue;
+        const std::uint32_t se = img.edge;
+        const bool forward = signs[i] < 0;  // the step's sign, -signs[i], is +1
+        const std::uint32_t tail = forward ? img.tail : img.head;
+        const std::uint32_t head = forward ? img.head : img.tail;
+        if (step[tail].stamp == st) return false;  // a pinch (or a face listed twice)
+        step[tail] = {st, head, forward ? se : se | kFlip};
+        lo = std::min(lo, tail);
+        ++ns;
+      }
+      if (ns < 3) return false;
+      std::uint32_t cur = lo;
+      for (std::uint32_t k = 0;;) {
+        const LoopStep sp = step[cur];
+        if (sp.stamp != st) return false;  // the chain does not close
+        poly_ids[entries] = sp.edge & kIndex;
+        poly_signs[entries] = (sp.edge & kFlip) ? -1 : 1;
+        ++entries;
+        ++k;
+        cur = sp.head;
+        if (cur == lo) {
+          if (k != ns) return false;  // several loops
+          break;
+        }
+        if (k == ns) return false;
+      }
+      const std::uint32_t poly = npoly++;
+      poly_off[npoly] = entries;
+      src[poly] = C.model_id.empty() ? x : C.model_id[x];
+      facet[poly] = x;
+      if (above) {
+        if (chains_above) {
+          images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
+          terms_[3].push_back({poly, 1});
+        }
+        mark_parents(m, 3, x);
+      }
+      return true;
+    };
+    for (auto c : touched_)
+      if (!visit_marked_bytes(cell_marks, m.begin_[2][c], m.begin_[2][c + 1], cell))
+        return stop(-1);
+    src_store.resize(npoly);
+    facet_internal_.resize(npoly);
+    polys.offsets.resize(std::size_t{npoly} + 1);
+  }
+  polys.ids.resize(entries);
+  polys.signs.resize(entries);
+  kernel_count_ += nse + out.source[2].size();
+  return cut_upper(m, pl, out, 4) ? 1 : 0;  // (the rank-4 marks are the generic path's bits)
+}
+
+bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from) {
   const int fr = m.dim_ - 1;
   const int top = m.top_;
   // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
   // increasing id order within each touched cluster, so the order is that of a full scan.
-  for (int k = 2; k <= top; ++k) {
+  for (int k = from; k <= top; ++k) {
     const SliceModel::Rank& R = m.ranks_[k];
     const std::size_t count = R.offsets.size() - 1;
     std::vector<std::uint64_t>& bits = mark_[k];
@@ -1243,7 +1537,6 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     for (std::size_t c = 0; c < nc; ++c)
       if (pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
         touched_.push_back(static_cast<std::uint32_t>(c));
-    start_buffers(m, pl, o);
     // The crossing edges in increasing id order (marked, then visited cluster by cluster as a
     // slice visits them).
     std::vector<std::uint64_t>& edge_bits = mark_[1];
@@ -1255,6 +1548,16 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
       side_[b] = s_[b] < 0.0 ? -1 : 1;
       edge_bits[e >> 6] |= std::uint64_t{1} << (e & 63);
     }
+    if (n == 4 && m.top_ >= 3) {  // the slice's own kernel on the marked crossings
+      if (kernel_slice(m, pl, o, true) > 0) {
+        ++fast_count_;
+        continue;
+      }
+      clear_marks(m);
+      single(k);  // degenerate, or for the generic gathering: exactly what slice() gives
+      continue;
+    }
+    start_buffers(m, pl, o);
     bool ok = true;
     for (auto c : touched_)
       if (!visit_marked(edge_bits, m.begin_[0][c], m.begin_[0][c + 1],

@@ -59,6 +59,16 @@ class Incidence {
   const std::vector<std::uint32_t>& all_ids() const { return ids_; }
   const std::vector<std::int8_t>& all_signs() const { return signs_; }
 
+  /// The three arrays themselves, for writers that lay out many rows in place (resize, then
+  /// fill). The caller restores the invariant: offsets starts with 0, does not decrease and
+  /// ends with ids.size() == signs.size().
+  struct Storage {
+    std::vector<std::uint32_t>& offsets;
+    std::vector<std::uint32_t>& ids;
+    std::vector<std::int8_t>& signs;
+  };
+  Storage storage() { return {offsets_, ids_, signs_}; }
+
  private:
   std::vector<std::uint32_t> offsets_{0};
   std::vector<std::uint32_t> ids_;

@@ -23,7 +23,9 @@ inline constexpr double near_parallel_normal = 1e-9;
 
 /// Self-intersection test of a section (cw4d::self_intersects): a boundary edge pierces another
 /// face only when its ends lie farther than self_intersection_rel * (bounding-box diagonal) on
-/// both sides of that face's plane, so faces that merely touch are not reported.
+/// both sides of that face's plane, so faces that merely touch are not reported. Two faces
+/// sharing two vertices cross along the segment between them only when its midpoint lies that
+/// far inside each (or on an edge of it) and their unit normals' cross product exceeds it.
 inline constexpr double self_intersection_rel = 1e-9;
 
 /// A facet is planar when every vertex lies within planarity_rel * (facet diameter) of the

@@ -8,6 +8,16 @@
 // tesseract, "x3o4o3o" 24-cell, "x5x3x3x" omnitruncated 120-cell, "x5o2x" pentagonal prism.
 // The rank (number of nodes) is the ambient dimension; ranks 2..10 are accepted.
 //
+// Star polytopes: a branch mark may be a fraction p/q (1 <= q < p, in lowest terms), the mirrors
+// of its two nodes then meet at the angle pi q / p ("x5/2o" pentagram, "x5/2o5o" small stellated
+// dodecahedron, "x5/2o3o3o" great grand stellated 120-cell, "x4/3x3o3o" quasitruncated
+// tesseract). The group must be finite (the Schwarz triangles and Goursat tetrahedra); the
+// polytope is the same construction as for integer marks: faces are the polygons {p/q} or
+// {2p/q} traversed by the rotation through 2 pi q / p, cells the (possibly non-convex) uniform
+// polyhedra of the sub-diagrams, and the result may self-intersect. A ringing whose vertices,
+// edges, faces or cells coincide, or whose faces or cells pass through the centre (hemi-faces),
+// is refused with an InputError naming the degeneracy.
+//
 // Convention: the result is centred at the origin and EVERY EDGE HAS LENGTH 2 (the edge of the
 // tesseract [-1,1]^4). The coordinate frame is the one in which the simple roots are the rows of
 // the Cholesky factor of the Gram matrix, i.e. an arbitrary but fixed rotation of the polytope.
@@ -25,12 +35,16 @@ namespace cw4d {
 struct CoxeterDiagram {
   std::vector<bool> ringed;  ///< one entry per node
   std::vector<int> labels;   ///< labels[i] joins node i and node i + 1 (size = nodes - 1)
+  /// Denominator q of the mark labels[i] / q; empty (or 1) for integer marks.
+  std::vector<int> denominators = {};
   int rank() const { return static_cast<int>(ringed.size()); }
+  int denominator(std::size_t i) const { return i < denominators.size() ? denominators[i] : 1; }
 };
 
 /// Parses "x4o3o3o". Accepts upper-case X / O.
 /// \throw InputError for malformed text (unknown node letter, missing or non-integer label,
-///        label outside 2..10000, fewer than 2 or more than 10 nodes).
+///        label outside 2..10000, fewer than 2 or more than 10 nodes, a fraction p/q that is not
+///        in lowest terms or not 1 <= q < p).
 CoxeterDiagram parse_coxeter_diagram(std::string_view text);
 
 /// The closed uniform polytope of a diagram (ranks 1 .. rank-1 stored, outward oriented, facet
@@ -38,9 +52,23 @@ CoxeterDiagram parse_coxeter_diagram(std::string_view text);
 /// \throw InputError when the diagram is malformed, when some connected component of the diagram
 ///        has no ringed node (no ring at all, or a lower-dimensional result), when the group is
 ///        not finite (Gram matrix of the simple roots not positive definite, e.g. "x6o3o"), or
-///        when the polytope would have more than 2,000,000 vertices.
+///        when the polytope would have more than 2,000,000 vertices; for fractional marks also
+///        when the generated group is infinite or the ringing is degenerate (coinciding
+///        vertices, edges, faces or cells, hemi-faces through the centre, or elements that do
+///        not close up into a valid complex).
 Complex make_wythoff(const CoxeterDiagram& diagram);
 Complex make_wythoff(std::string_view diagram);
+
+struct WythoffOptions {
+  /// Accept a fractional diagram whose base point lies on more mirrors than the unringed
+  /// nodes' (its vertices, and then some edges, coincide) and build the figure with the
+  /// coinciding vertices and edges identified, as Miratope and Klitzing list some of them; the
+  /// faces and cells must still be distinct and the result must validate. Ignored for rank 2
+  /// (a polygon would only be traversed twice).
+  bool fold_coincident_vertices = false;
+};
+Complex make_wythoff(const CoxeterDiagram& diagram, const WythoffOptions& options);
+Complex make_wythoff(std::string_view diagram, const WythoffOptions& options);
 
 /// The diagram of a convex uniform polychoron named in English, case-insensitive, words joined
 /// by spaces, hyphens or underscores: an optional operation (truncated, rectified, bitruncated,
@@ -49,5 +77,29 @@ Complex make_wythoff(std::string_view diagram);
 /// 24-cell, hecatonicosachoron / 120-cell, hexacosichoron / 600-cell). Returns e.g. "x4x3o3o"
 /// for "truncated tesseract", nullopt for anything else.
 std::optional<std::string> uniform_polychoron_diagram(std::string_view name);
+
+/// A named star polychoron: its diagram, and whether it is the folded figure of that diagram
+/// (WythoffOptions::fold_coincident_vertices).
+struct NamedDiagram {
+  const char* name;
+  const char* diagram;
+  bool folded = false;
+};
+
+/// The regular star polychora (Schlaefli-Hess: "great grand stellated 120-cell", "grand
+/// 600-cell", ..., or the Greek forms "great grand stellated hecatonicosachoron", "grand
+/// hexacosichoron") and the named non-convex uniform polychora as Miratope names its files
+/// ("quasitruncated tesseract", "rectified great grand hecatonicosachoron", ...);
+/// case-insensitive, words joined by spaces, hyphens or underscores. nullopt for anything else.
+std::optional<NamedDiagram> star_polychoron(std::string_view name);
+/// The diagram of star_polychoron(name).
+std::optional<std::string> star_polychoron_diagram(std::string_view name);
+/// The polychoron star_polychoron(name) names, built from its diagram (edge 2).
+/// \throw InputError for a name star_polychoron does not know.
+Complex make_star_polychoron(std::string_view name);
+
+/// One entry per polychoron (lower case, words joined by spaces), in a fixed order: the ten
+/// regular ones first.
+const std::vector<NamedDiagram>& star_polychoron_names();
 
 }  // namespace cw4d

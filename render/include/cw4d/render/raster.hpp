@@ -16,6 +16,7 @@
 // Work is split over 64 x 64 pixel tiles run on std::thread workers; every tile processes its
 // triangles in submission order and owns its pixels, so the picture does not depend on the
 // number of threads (bit for bit).
+#include <glm/mat3x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -26,14 +27,21 @@
 
 #include "cw4d/render/camera.hpp"
 #include "cw4d/render/image.hpp"
+#include "cw4d/render/texture.hpp"
 
 namespace cw4d::render {
 
-/// A mesh vertex. color is linear RGB with straight alpha (opacity).
+/// A mesh vertex. color is linear RGB with straight alpha (opacity). uvw is interpolated
+/// perspective-correctly like the color; normal4 and texture are flat: a triangle uses those of
+/// its first vertex.
 struct Vertex {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f};  ///< need not be unit; zero = unlit
   glm::vec4 color{1.0f};
+  glm::vec3 uvw{0.0f};      ///< 3D texture coordinates
+  glm::vec4 normal4{0.0f};  ///< 4D normal for Lighting::four_d (zero: the 3D normal, lifted)
+  /// Sampled at uvw (null: none); must outlive Rasterizer::render().
+  const Texture3D* texture = nullptr;
 };
 
 /// Indexed triangles, counter-clockwise seen from their front side.
@@ -58,13 +66,32 @@ struct Light {
   float attenuation = 0.0f;            ///< point lights: intensity / (1 + attenuation * d^2)
 };
 
+/// A light in 4D space, for sections lit as parts of 4D solids ([wxyhly 2024] "四维光照"):
+/// directional (vector: towards the light) or a point (vector: its position) whose intensity
+/// falls off as (reference / r)^3, the inverse cube law of light spreading over 3-spheres.
+struct Light4 {
+  enum class Kind { Directional, Point };
+  Kind kind = Kind::Directional;
+  glm::vec4 vector{0.0f, 0.0f, 0.0f, 1.0f};
+  glm::vec3 color{1.0f};   ///< linear RGB; a point light's intensity at distance `reference`
+  float reference = 1.0f;  ///< point lights: > 0 (distances below 1e-3 reference are clamped)
+};
+
 /// Blinn-Phong: base * ambient + sum over lights of color * (base * max(N.L, 0)
 /// + specular * max(N.H, 0)^shininess), N facing the viewer (two-sided).
+/// With four_d set, the 3D positions are points of the hyperplane x4 = origin4 + basis4 * p,
+/// N is the 4D normal (Vertex::normal4), and the lights are lights4: the same formula in 4D
+/// (the viewer's direction lifted into the hyperplane; N flipped with the 3D normal when that
+/// faces away from the viewer).
 struct Lighting {
   glm::vec3 ambient{0.22f};
   std::vector<Light> lights;
   float specular = 0.25f;
   float shininess = 48.0f;
+  bool four_d = false;
+  std::vector<Light4> lights4;
+  glm::vec4 origin4{0.0f};
+  glm::mat3x4 basis4{1.0f};  ///< columns: the hyperplane's orthonormal basis in 4D
 
   /// A key light over the viewer's left shoulder, a dim fill from the right and a weak point
   /// light at the eye: readable shading for any view.

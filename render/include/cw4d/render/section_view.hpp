@@ -11,6 +11,7 @@
 #include "cw4d/render/camera.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/raster.hpp"
+#include "cw4d/render/texture.hpp"
 #include "cw4d/section/section.hpp"
 
 namespace cw4d::render {
@@ -27,6 +28,22 @@ struct FrameSphere {
 /// (model->colors(3) through section.source), else a palette hue per source cell.
 /// \throw InputError when the section is not 3-dimensional.
 TriangleMesh section_mesh(const Section& section, const Complex* model = nullptr);
+
+/// As section_mesh, decorated from `source`, the scene the section was cut from (a single
+/// model's section: a scene of that one object): every vertex gets its face's 4D normal (the
+/// source cell's outward normal placed in the world, unit), and every face with a texture in
+/// `textures` its texture and each corner's UVW (section_uvw). `textures` must outlive the
+/// mesh's rendering. 	hrow InputError as section_mesh and section_uvw.
+TriangleMesh section_mesh(const Section& section, const Complex* model, const Scene& source,
+                          const TextureAssignment* textures);
+
+/// The mesh of a triangle soup cut from one placed model (the tetrahedral slicer's output):
+/// triangle i has corners 3i..3i+2 of positions, normals (3D) and uvw, and came from 3-cell
+/// cell[i] of object.complex; colors as section_mesh (the object's cell colors when the model
+/// has them, else a palette hue per cell), normal4 and textures as the decorated section_mesh.
+TriangleMesh soup_mesh(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& normals,
+                       const Eigen::Matrix3Xd& uvw, const std::vector<std::uint32_t>& cell,
+                       const SceneObject& object, const TextureAssignment* textures);
 
 /// The section's edges as lines of one color (linear RGB, alpha).
 std::vector<LineSegment> section_edges(const Section& section, glm::vec4 color);
@@ -50,7 +67,32 @@ struct SectionViewOptions {
   float edge_width = 1.5f;
   bool cull_back_faces = false;
   glm::vec3 background{1.0f};  ///< linear RGB
+  /// The scene the section was cut from (a single model: the scene of that object). Needed
+  /// for textures and 4D light; null: neither.
+  const Scene* source = nullptr;
+  TextureAssignment textures;
+  /// false: lights in the section's 3D space (Lighting::studio); true: lights in 4D and each
+  /// face lit by its cell's 4D normal, so turning the model in 4D changes the light.
+  bool light_4d = false;
+  /// The 4D lights (world space); empty: default_lights4 of the camera and hyperplane.
+  std::vector<Light4> lights4;
 };
+
+/// The 4D counterpart of Lighting::studio: the studio's key and fill directions lifted into
+/// the hyperplane and tilted 40 degrees out of it along +n (the key) and -n (the fill).
+std::vector<Light4> default_lights4(const Camera& camera, const HyperplaneFrame& frame);
+
+/// The lighting a section picture uses: studio(camera), in 4D when options.light_4d.
+Lighting section_lighting(const Camera& camera, const HyperplaneFrame& frame,
+                          const SectionViewOptions& options);
+
+/// The smallest-box-centred sphere around a mesh's vertices.
+FrameSphere bounding_frame(const TriangleMesh& mesh);
+
+/// Draws a section mesh (and `edges`, when options.edges) as render_section does.
+Image render_mesh(const TriangleMesh& mesh, const std::vector<LineSegment>& edges,
+                  const HyperplaneFrame& frame, const SectionViewOptions& options,
+                  const Camera& camera, bool flatten = true);
 
 /// The camera a section picture uses (exposed for tests and stereo pairs).
 Camera section_camera(const Section& section, const SectionViewOptions& options);

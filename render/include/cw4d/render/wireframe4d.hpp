@@ -22,6 +22,7 @@
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/raster.hpp"
 #include "cw4d/render/tolerances.hpp"
+#include "cw4d/section/section.hpp"
 
 namespace cw4d::render {
 
@@ -108,10 +109,14 @@ struct VisibleSegment {
 
 /// The visible pieces of every edge of every object: clipped to the frustum, then culled by
 /// every object that is convex (non-convex objects are drawn but hide nothing).
-/// `margin_rel` shrinks each shadow by that fraction of the occluder's radius.
+/// `margin_rel` shrinks each shadow by that fraction of the occluder's radius. With
+/// `bounding_pretests`, an occluder is skipped for an object or an edge whose bounding ball
+/// its shadow cone (from the eye through its bounding ball) misses: the same result, with the
+/// exact culling run only where it may hide something (scenes of hundreds of objects).
 std::vector<VisibleSegment> visible_edges(const Scene& scene, const Camera4& camera,
                                           bool occlusion = true,
-                                          double margin_rel = tol::shadow_margin_rel);
+                                          double margin_rel = tol::shadow_margin_rel,
+                                          bool bounding_pretests = true);
 
 struct WireframeOptions {
   RasterOptions raster;
@@ -122,11 +127,22 @@ struct WireframeOptions {
   bool occlusion = true;
   bool retina_box = true;      ///< draw the retina cube's edges
   glm::vec3 background{1.0f};  ///< linear
+  /// Also draw this section of the scene (world-space hyperplane; e.g. section_scene) inside
+  /// the wireframe: its faces lifted to 4D, projected to the retina like the edges, in their
+  /// colors at `section_opacity`, lit in the retina's 3D space. Triangles with a corner outside
+  /// the 4D frustum are left out; the section hides no edge and no occluder hides the section.
+  const Section* section = nullptr;
+  float section_opacity = 0.55f;
 };
 
 /// The picture: visible edges projected to the retina, colored by 4D depth (near warm, far
 /// cool), seen by a 3D camera. \throw InputError when the scene is not 4-dimensional.
 Image render_wireframe(const Scene& scene, const Camera4& camera, const WireframeOptions& options);
+
+/// Side-by-side stereo pair of the wireframe (left eye left, 2 * width wide): the retina cube
+/// seen from view_from turned by -/+ angle/2 about the retina's up axis.
+Image render_wireframe_stereo_pair(const Scene& scene, const Camera4& camera,
+                                   const WireframeOptions& options, float angle_degrees = 6.0f);
 
 /// A camera looking at the scene's bounding sphere from direction `from` (4 components), far
 /// enough that the whole sphere fits the frustum.

@@ -1,6 +1,7 @@
 #pragma once
-// The layered hyperplane section of seed 000 (vertices -> edges -> faces -> cells), for complexes
-// of any dimension: cutting a closed complex in R^n gives a closed complex in R^(n-1).
+// The layered hyperplane section of [wxyhly 2024] (docs/REFERENCES.md): vertices -> edges ->
+// faces -> cells, for complexes of any dimension; cutting a closed complex in R^n gives a closed
+// complex in R^(n-1).
 #include <cstdint>
 #include <vector>
 
@@ -67,8 +68,9 @@ Section section_general(const Complex& model, const Hyperplane& plane,
 
 /// Whether a closed polygon surface in R^3 is not embedded: a face that is not a simple polygon
 /// (is_simple_face), or a boundary edge of one face passing through the interior of another
-/// face it shares no vertex with (beyond tol::self_intersection_rel). Faces sharing a vertex
-/// are not compared. False for complexes of other dimensions.
+/// face (beyond tol::self_intersection_rel). For faces sharing vertices, the edges ending at a
+/// shared vertex are not tested (they meet the other face's plane there), so faces crossing
+/// beyond a shared vertex are found. False for complexes of other dimensions.
 bool self_intersects(const Complex& surface);
 
 }  // namespace cw4d

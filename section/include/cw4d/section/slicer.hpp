@@ -241,7 +241,13 @@ class Slicer {
   // an end (the general path welds it).
   bool crossing(const SliceModel& m, std::uint32_t e, double* t) const;
   bool add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out);
-  bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from = 2);
+  // The specialised kernel of a slice in R^4 (after the vertex pass): 1 when it made the
+  // buffers, 0 when the slice needs the general path (reason_ set), -1 when it met something
+  // only the generic gathering decides (the caller clears the marks and runs that instead).
+  // marked_edges: the crossing edges are those marked in mark_[1] (a sweep's active edges).
+  int kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                   bool marked_edges = false);
   bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
              SliceBuffers& out);
   void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
@@ -297,6 +303,20 @@ class Slicer {
   // section edge a stamp (a face listed twice in a cell goes to the generic gathering).
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
+  // kernel_slice scratch: per model edge (gen_ << 32) | section vertex | sign bit, per model
+  // face its section edge with the edge's ends (one load per step of a cell), per section
+  // vertex the step leaving it in the current cell.
+  struct LoopStep {
+    std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
+  };
+  struct FaceImage {
+    std::uint32_t gen = 0, edge = 0, tail = 0, head = 0;  // its section edge and that's ends
+  };
+  std::vector<std::uint64_t> edge_img_;
+  std::vector<FaceImage> face_img_;
+  std::vector<std::uint32_t> crossing_ids_;
+  std::vector<std::uint8_t> face_mark_, cell_mark_;
+  std::vector<LoopStep> loop_step_;
 };
 
 /// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every

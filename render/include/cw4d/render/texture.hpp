@@ -1,0 +1,78 @@
+#pragma once
+// Solid (3D) textures sampled through a section's UVW ([Peachey 1985] "Solid texturing of
+// complex surfaces"; [Perlin 1985] "An image synthesizer"): every point of a cut cell carries
+// the texture coordinates of its place in the 3-cell, so a section shows the inside of a
+// textured 4D solid, and moving the hyperplane moves through the texture.
+//
+// Procedural textures modulate the cell's color (checker and grid darken part of it, wood and
+// marble mix it with a darker shade); an image volume (a stack of PNG slices, filtered
+// trilinearly) replaces it. UVW in [0, 1]^3 spans a cell's box (section/uvw.hpp); `scale`
+// repeats the pattern that many times per unit of UVW.
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace cw4d::render {
+
+/// width x height x depth texels, linear RGB, x fastest; texel (i, j, k) sits at
+/// uvw = ((i + 0.5) / width, (j + 0.5) / height, (k + 0.5) / depth).
+struct ImageVolume {
+  int width = 0, height = 0, depth = 0;
+  std::vector<glm::vec3> texels;
+
+  const glm::vec3& at(int i, int j, int k) const {
+    return texels[(static_cast<std::size_t>(k) * height + j) * width + i];
+  }
+  /// Trilinear filtering, clamped to the edge texels (uvw outside [0, 1] repeats the border).
+  glm::vec3 sample(glm::vec3 uvw) const;
+  /// Slices in order (w = 0 first), each a PNG of the same size (gray, gray+alpha, RGB or
+  /// RGBA; sRGB, alpha ignored); the PNG's top row is v = 1. \throw InputError for no slices
+  /// or slices of different sizes, ParseError for an unreadable PNG.
+  static ImageVolume from_png_slices(const std::vector<std::string>& paths);
+};
+
+struct Texture3D {
+  enum class Kind { Checker, Grid, Wood, Marble, Volume };
+  Kind kind = Kind::Checker;
+  /// Repetitions of the pattern per unit of UVW (checker: cells per axis; grid: lines per
+  /// axis; wood: rings per unit radius; marble: veins per unit). > 0.
+  float scale = 8.0f;
+  /// Checker/grid: the factor of the dark cells or lines; wood/marble: of the dark shade.
+  float dark = 0.35f;
+  /// Grid: line width as a fraction of one period.
+  float line_width = 0.08f;
+  /// Volume: the image (uvw in [0, 1]^3 spans it once per scale).
+  std::shared_ptr<const ImageVolume> volume;
+
+  /// What the texture does to a linear base color at `uvw`.
+  glm::vec3 apply(glm::vec3 base, glm::vec3 uvw) const;
+  /// The modulation factor in [dark, 1] of a procedural texture (1 for a volume).
+  float factor(glm::vec3 uvw) const;
+};
+
+/// A texture from its command-line spelling: "checker[:SCALE]", "grid[:SCALE]", "wood[:SCALE]",
+/// "marble[:SCALE]", or "volume:PATTERN[:SCALE]" where PATTERN is a directory (its *.png in
+/// name order) or a printf pattern with one %d ("slices/z%03d.png", numbered from 0 until the
+/// first missing file). \throw InputError naming the spec.
+Texture3D parse_texture(const std::string& spec);
+
+/// Which texture each face of a section gets: a cell's own, else its scene object's, else
+/// `all` (null: untextured).
+struct TextureAssignment {
+  std::shared_ptr<const Texture3D> all;
+  std::map<std::uint32_t, std::shared_ptr<const Texture3D>> per_object;
+  std::map<std::uint32_t, std::shared_ptr<const Texture3D>> per_cell;  ///< cells of the model
+
+  bool empty() const { return !all && per_object.empty() && per_cell.empty(); }
+  const Texture3D* find(std::uint32_t object, std::uint32_t cell) const;
+};
+
+/// Adds one "--texture" value: "SPEC" (every face), "object=I:SPEC" or "cell=I:SPEC".
+/// \throw InputError for a malformed value.
+void add_texture(TextureAssignment& assignment, const std::string& value);
+
+}  // namespace cw4d::render

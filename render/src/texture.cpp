@@ -1,0 +1,245 @@
+#include "cw4d/render/texture.hpp"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/render/color.hpp"
+#include "cw4d/render/image.hpp"
+
+// Ken Perlin's improved noise as Debian's libstb-dev ships it (stb_perlin.h, public domain),
+// compiled here with static linkage.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#endif
+#define STB_PERLIN_IMPLEMENTATION
+#define STB_PERLIN_STATIC
+#include <stb_perlin.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+namespace cw4d::render {
+
+namespace {
+
+float fract(float x) {
+  return x - std::floor(x);
+}
+
+float smooth(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// Fractal turbulence (sum of |noise| over octaves) in about [0, 1].
+float turbulence(glm::vec3 p) {
+  return 0.5f * stb_perlin_turbulence_noise3(p.x, p.y, p.z, 2.0f, 0.5f, 4);
+}
+
+}  // namespace
+
+glm::vec3 ImageVolume::sample(glm::vec3 uvw) const {
+  const float fx = std::clamp(uvw.x * width - 0.5f, 0.0f, static_cast<float>(width - 1));
+  const float fy = std::clamp(uvw.y * height - 0.5f, 0.0f, static_cast<float>(height - 1));
+  const float fz = std::clamp(uvw.z * depth - 0.5f, 0.0f, static_cast<float>(depth - 1));
+  const int i0 = static_cast<int>(fx), j0 = static_cast<int>(fy), k0 = static_cast<int>(fz);
+  const int i1 = std::min(i0 + 1, width - 1), j1 = std::min(j0 + 1, height - 1),
+            k1 = std::min(k0 + 1, depth - 1);
+  const float tx = fx - i0, ty = fy - j0, tz = fz - k0;
+  auto row = [&](int j, int k) { return glm::mix(at(i0, j, k), at(i1, j, k), tx); };
+  auto plane = [&](int k) { return glm::mix(row(j0, k), row(j1, k), ty); };
+  return glm::mix(plane(k0), plane(k1), tz);
+}
+
+ImageVolume ImageVolume::from_png_slices(const std::vector<std::string>& paths) {
+  if (paths.empty()) throw InputError("an image volume needs at least one PNG slice");
+  ImageVolume v;
+  v.depth = static_cast<int>(paths.size());
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    const Image8 img = read_png(paths[k]);
+    if (k == 0) {
+      v.width = img.width;
+      v.height = img.height;
+      v.texels.reserve(static_cast<std::size_t>(v.width) * v.height * v.depth);
+    } else if (img.width != v.width || img.height != v.height) {
+      throw InputError("image volume slice '" + paths[k] + "' is " + std::to_string(img.width) +
+                       "x" + std::to_string(img.height) + ", the first slice " +
+                       std::to_string(v.width) + "x" + std::to_string(v.height));
+    }
+    const int n = img.channels;
+    for (int j = 0; j < img.height; ++j) {
+      const int row = img.height - 1 - j;  // v = 0 at the bottom
+      for (int i = 0; i < img.width; ++i) {
+        const std::uint8_t* p = &img.bytes[(static_cast<std::size_t>(row) * img.width + i) * n];
+        const bool gray = n < 3;
+        const glm::vec3 srgb(p[0] / 255.0f, (gray ? p[0] : p[1]) / 255.0f,
+                             (gray ? p[0] : p[2]) / 255.0f);
+        v.texels.push_back(to_linear(srgb));
+      }
+    }
+  }
+  return v;
+}
+
+float Texture3D::factor(glm::vec3 uvw) const {
+  const glm::vec3 p = uvw * scale;
+  switch (kind) {
+    case Kind::Checker: {
+      const long s = static_cast<long>(std::floor(p.x)) + static_cast<long>(std::floor(p.y)) +
+                     static_cast<long>(std::floor(p.z));
+      return (s & 1) ? dark : 1.0f;
+    }
+    case Kind::Grid: {
+      // A line where any two coordinates are within half a line width of a whole number:
+      // the edges of the lattice's cubes, so every section shows a grid.
+      const float h = 0.5f * line_width;
+      int near = 0;
+      for (int i = 0; i < 3; ++i) {
+        const float f = fract(p[i]);
+        if (f < h || f > 1.0f - h) ++near;
+      }
+      return near >= 2 ? dark : 1.0f;
+    }
+    case Kind::Wood: {
+      // Rings about the w axis through the box centre, warped by noise.
+      const glm::vec3 q = uvw - glm::vec3(0.5f);
+      const float r = std::sqrt(q.x * q.x + q.y * q.y) * scale;
+      const float warp = 0.35f * stb_perlin_noise3(2.0f * p.x, 2.0f * p.y, 0.6f * p.z, 0, 0, 0);
+      const float ring = fract(r + warp);
+      return dark + (1.0f - dark) * (1.0f - smooth(0.55f, 0.95f, ring));
+    }
+    case Kind::Marble: {
+      const float t = std::sin(2.0f * std::numbers::pi_v<float> *
+                               (p.x + 0.5f * p.y + 3.0f * turbulence(2.0f * p)));
+      return dark + (1.0f - dark) * std::pow(0.5f + 0.5f * t, 0.4f);
+    }
+    case Kind::Volume:
+      return 1.0f;
+  }
+  return 1.0f;
+}
+
+glm::vec3 Texture3D::apply(glm::vec3 base, glm::vec3 uvw) const {
+  if (kind == Kind::Volume && volume) {
+    glm::vec3 p = uvw * scale;
+    p = p - glm::floor(p);  // repeats `scale` times
+    return volume->sample(p);
+  }
+  return base * factor(uvw);
+}
+
+namespace {
+
+std::vector<std::string> slice_paths(const std::string& pattern) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  std::error_code ec;
+  if (fs::is_directory(pattern, ec)) {
+    for (const auto& e : fs::directory_iterator(pattern, ec))
+      if (e.is_regular_file() && e.path().extension() == ".png") out.push_back(e.path().string());
+    std::sort(out.begin(), out.end());
+    if (out.empty()) throw InputError("no .png slices in the directory '" + pattern + "'");
+    return out;
+  }
+  const auto pos = pattern.find('%');
+  if (pos == std::string::npos || pattern.find('%', pos + 1) != std::string::npos ||
+      pattern.find('d', pos) == std::string::npos)
+    throw InputError("texture volume '" + pattern +
+                     "' is neither a directory nor a pattern with one %d");
+  for (int i = 0; i < 4096; ++i) {
+    char buf[4096];
+    if (std::snprintf(buf, sizeof buf, pattern.c_str(), i) >= static_cast<int>(sizeof buf))
+      throw InputError("texture volume pattern too long");
+    if (!fs::exists(buf, ec)) break;
+    out.emplace_back(buf);
+  }
+  if (out.empty())
+    throw InputError("texture volume pattern '" + pattern + "' names no file (from number 0)");
+  return out;
+}
+
+float parse_scale(const std::string& text, const std::string& spec) {
+  std::size_t used = 0;
+  float v = 0.0f;
+  try {
+    v = std::stof(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(v > 0.0f) || !std::isfinite(v) || v > 1e6f)
+    throw InputError("texture '" + spec + "': the scale must be a number in (0, 1e6], not '" +
+                     text + "'");
+  return v;
+}
+
+}  // namespace
+
+Texture3D parse_texture(const std::string& spec) {
+  Texture3D t;
+  const auto colon = spec.find(':');
+  const std::string name = spec.substr(0, colon);
+  std::string rest = colon == std::string::npos ? std::string() : spec.substr(colon + 1);
+  if (name == "checker" || name == "grid" || name == "wood" || name == "marble") {
+    t.kind = name == "checker" ? Texture3D::Kind::Checker
+             : name == "grid"  ? Texture3D::Kind::Grid
+             : name == "wood"  ? Texture3D::Kind::Wood
+                               : Texture3D::Kind::Marble;
+    t.scale = name == "checker" ? 8.0f : name == "grid" ? 4.0f : name == "wood" ? 6.0f : 2.0f;
+    if (colon != std::string::npos) t.scale = parse_scale(rest, spec);
+    return t;
+  }
+  if (name == "volume") {
+    t.kind = Texture3D::Kind::Volume;
+    t.scale = 1.0f;
+    // An optional trailing ":SCALE" (a path may itself hold colons: only a numeric tail counts).
+    const auto last = rest.rfind(':');
+    if (last != std::string::npos) {
+      const std::string tail = rest.substr(last + 1);
+      if (!tail.empty() && tail.find_first_not_of("0123456789.eE+-") == std::string::npos) {
+        t.scale = parse_scale(tail, spec);
+        rest = rest.substr(0, last);
+      }
+    }
+    if (rest.empty()) throw InputError("texture '" + spec + "': give volume:DIRECTORY or PATTERN");
+    t.volume = std::make_shared<const ImageVolume>(ImageVolume::from_png_slices(slice_paths(rest)));
+    return t;
+  }
+  throw InputError("unknown texture '" + spec +
+                   "' (checker[:S], grid[:S], wood[:S], marble[:S], volume:PNGS[:S])");
+}
+
+const Texture3D* TextureAssignment::find(std::uint32_t object, std::uint32_t cell) const {
+  if (auto it = per_cell.find(cell); it != per_cell.end()) return it->second.get();
+  if (auto it = per_object.find(object); it != per_object.end()) return it->second.get();
+  return all.get();
+}
+
+void add_texture(TextureAssignment& a, const std::string& value) {
+  for (const char* key : {"object=", "cell="}) {
+    const std::string k(key);
+    if (value.rfind(k, 0) != 0) continue;
+    const auto colon = value.find(':', k.size());
+    const std::string id =
+        value.substr(k.size(), colon == std::string::npos ? std::string::npos : colon - k.size());
+    if (colon == std::string::npos || id.empty() ||
+        id.find_first_not_of("0123456789") != std::string::npos || id.size() > 9)
+      throw InputError("--texture '" + value + "': write " + k + "INDEX:SPEC");
+    auto tex = std::make_shared<const Texture3D>(parse_texture(value.substr(colon + 1)));
+    const auto index = static_cast<std::uint32_t>(std::stoul(id));
+    (k == "cell=" ? a.per_cell : a.per_object)[index] = std::move(tex);
+    return;
+  }
+  a.all = std::make_shared<const Texture3D>(parse_texture(value));
+}
+
+}  // namespace cw4d::render
