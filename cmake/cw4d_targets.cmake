@@ -5,7 +5,7 @@ add_library(cw4d_settings INTERFACE)
 target_compile_features(cw4d_settings INTERFACE cxx_std_20)
 if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
   target_compile_options(cw4d_settings INTERFACE -Wall -Wextra -Wpedantic
-    $<$<BOOL:${CW4D_WARNINGS_AS_ERRORS}>:-Werror>)
+    $<$<BOOL:${CW4D_WERROR}>:-Werror>)
 endif()
 
 include(GNUInstallDirs)

@@ -6,14 +6,17 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/validate.hpp"
-#include "support/registration.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 using namespace cw4d;
 
@@ -91,14 +94,13 @@ const std::vector<Example>& examples() {
 }  // namespace
 
 TEST_CASE("every model family has an example that builds, validates and round-trips") {
-  test::register_optional_models();
   std::set<std::string> covered;
   for (const Example& ex : examples()) {
     INFO(ex.spec);
-    const auto family = model_family(ex.spec);
+    const auto family = model_family(ex.spec, default_catalogue());
     REQUIRE(family.has_value());
     covered.insert(*family);
-    const Complex c = load_model(ex.spec);
+    const Complex c = load_model(ex.spec, default_catalogue());
     const ValidationReport report = validate(c);
     INFO(report.summary());
     REQUIRE(report.ok());
@@ -122,7 +124,7 @@ TEST_CASE("every model family has an example that builds, validates and round-tr
       CHECK(validate(back).ok());
     }
   }
-  for (const BuiltinInfo& info : builtin_list()) {
+  for (const BuiltinInfo& info : builtin_list(default_catalogue())) {
     if (info.spec.rfind("FILE", 0) == 0) continue;
     INFO("family without an example: " << info.spec);
     CHECK(covered.count(info.spec) == 1);
@@ -130,21 +132,95 @@ TEST_CASE("every model family has an example that builds, validates and round-tr
 }
 
 TEST_CASE("snub diagrams name the snub polytopes (published f-vectors)") {
-  test::register_optional_models();
-  CHECK(load_model("wythoff:s3s4o3o").fvector() == std::vector<std::size_t>{96, 432, 480, 144});
-  CHECK(load_model("wythoff:s4s3s").fvector() == std::vector<std::size_t>{24, 60, 38});
-  CHECK(load_model("wythoff:s5s3s").fvector() == std::vector<std::size_t>{60, 150, 92});
-  CHECK(load_model("grand antiprism").fvector() == std::vector<std::size_t>{100, 500, 720, 320});
+  CHECK(load_model("wythoff:s3s4o3o", default_catalogue()).fvector() ==
+        std::vector<std::size_t>{96, 432, 480, 144});
+  CHECK(load_model("wythoff:s4s3s", default_catalogue()).fvector() ==
+        std::vector<std::size_t>{24, 60, 38});
+  CHECK(load_model("wythoff:s5s3s", default_catalogue()).fvector() ==
+        std::vector<std::size_t>{60, 150, 92});
+  CHECK(load_model("grand antiprism", default_catalogue()).fvector() ==
+        std::vector<std::size_t>{100, 500, 720, 320});
   // Other diagrams with snub nodes are not built (yet): a clear error, not a wrong model.
-  CHECK_THROWS_AS(load_model("wythoff:s3s3s3s"), InputError);
+  CHECK_THROWS_AS(load_model("wythoff:s3s3s3s", default_catalogue()), InputError);
 }
 
 TEST_CASE("product:A*B is the Cartesian product (f-vector of the product of the faces)") {
   // duoprism:5,3 = pentagon x triangle: V = 15, E = 5*3 + 5*3, F = 15 + 3 + 5, C = 3 + 5.
-  CHECK(load_model("product:polygon:5*polygon:3").fvector() ==
+  CHECK(load_model("product:polygon:5*polygon:3", default_catalogue()).fvector() ==
         std::vector<std::size_t>{15, 30, 23, 8});
-  CHECK(load_model("product:polygon:5*polygon:3").positions().cols() ==
-        load_model("duoprism:5,3").positions().cols());
-  CHECK_THROWS_AS(load_model("product:polygon:5"), InputError);
-  CHECK_THROWS_AS(load_model("product:*polygon:5"), InputError);
+  CHECK(load_model("product:polygon:5*polygon:3", default_catalogue()).positions().cols() ==
+        load_model("duoprism:5,3", default_catalogue()).positions().cols());
+  CHECK_THROWS_AS(load_model("product:polygon:5", default_catalogue()), InputError);
+  CHECK_THROWS_AS(load_model("product:*polygon:5", default_catalogue()), InputError);
+}
+
+TEST_CASE("catalogues are explicit values: core, default, extended", "[catalogue]") {
+  using FVector = std::vector<std::size_t>;
+  const Catalogue& core = core_catalogue();
+  const Catalogue& all = default_catalogue();
+  // The core catalogue has no hull or mesh-file family; the default one has them and every core
+  // family, under the same usage, in the same order.
+  for (const char* spec : {"glome:1,3", "snub cube", "grand antiprism", "hull:x.txt",
+                           "extrude:x.obj", "spin:x.obj,8"}) {
+    INFO(spec);
+    CHECK(core.find(spec) == nullptr);
+    CHECK(all.find(spec) != nullptr);
+  }
+  REQUIRE(all.families().size() > core.families().size());
+  for (std::size_t i = 0; i < core.families().size(); ++i)
+    CHECK(all.families()[i].usage == core.families()[i].usage);
+  CHECK_THROWS_AS(load_model("glome:1,3"), InputError);  // the default argument is the core
+  CHECK(validate(load_model("glome:1,3", all)).ok());
+  // Operators load their operands from the catalogue the spec is loaded with.
+  // Prism over (V, E, F) of the snub cube (24, 60, 38): (2V, 2E + V, 2F + E, F + 2).
+  CHECK(load_model("prism:snub cube", all).fvector() == FVector{48, 144, 136, 40});
+  CHECK_THROWS_AS(load_model("prism:snub cube", core), InputError);
+  CHECK_THROWS_AS(load_model("dual:gap"), InputError);
+  // The scene reader takes the catalogue too; an unknown model is the scene's ParseError.
+  const std::string scene = R"({"objects": [{"model": "grand antiprism"}]})";
+  std::istringstream in(scene);
+  CHECK(read_scene(in, "gap.json", {}, all).objects.at(0).complex->fvector() ==
+        FVector{100, 500, 720, 320});
+  std::istringstream again(scene);
+  CHECK_THROWS_AS(read_scene(again, "gap.json"), ParseError);
+
+  // An empty catalogue loads only files; an extended one adds or replaces by usage and leaves
+  // the original as it was.
+  CHECK_THROWS_AS(Catalogue().load("tesseract"), InputError);
+  const Catalogue mine =
+      Catalogue().extended({named_family({"my-cell"}, "a tesseract", [] { return make_cube(4); })});
+  CHECK(mine.load("My-Cell").fvector() == FVector{16, 32, 24, 8});
+  CHECK_THROWS_AS(mine.load("prism:my-cell"), InputError);
+  CHECK(mine.list().size() == 2);  // my-cell, then the file entry
+  const Catalogue swapped = core.extended(
+      {named_family({"tesseract", "8-cell"}, "a 16-cell", [] { return make_orthoplex(4); })});
+  CHECK(swapped.families().size() == core.families().size());
+  CHECK(swapped.load("8-cell").fvector() == FVector{8, 24, 32, 16});
+  CHECK(swapped.load("prism:tesseract").fvector() == FVector{16, 56, 88, 64, 18});
+  CHECK(core.load("8-cell").fvector() == FVector{16, 32, 24, 8});
+  ModelFamily broken;
+  broken.usage = "broken";
+  CHECK_THROWS_AS(Catalogue({broken}), InputError);
+}
+
+TEST_CASE("one catalogue serves many threads", "[catalogue][threads]") {
+  // One const catalogue read by four threads at once (operators recurse into it): every thread
+  // gets the published f-vectors.
+  const std::vector<std::pair<std::string, std::vector<std::size_t>>> cases = {
+      {"snub 24-cell", {96, 432, 480, 144}},
+      {"prism:snub cube", {48, 144, 136, 40}},
+      {"24-cell", {24, 96, 96, 24}},
+      {"dual:tesseract", {8, 24, 32, 16}}};
+  std::vector<int> wrong(4, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int round = 0; round < 2; ++round)
+        for (std::size_t k = 0; k < cases.size(); ++k) {
+          const auto& [spec, f] = cases[(k + t) % cases.size()];
+          wrong[t] += load_model(spec, default_catalogue()).fvector() != f;
+        }
+    });
+  for (auto& thread : threads) thread.join();
+  CHECK(wrong == std::vector<int>(4, 0));
 }

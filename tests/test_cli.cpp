@@ -25,6 +25,7 @@
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vectors.hpp"
@@ -103,7 +104,7 @@ TEST_CASE("list names every built-in", "[cli]") {
   const Result r = run(dir, {"list"});
   REQUIRE(r.code == 0);
   CHECK(r.err.empty());
-  for (const auto& b : cw4d::builtin_list()) {
+  for (const auto& b : cw4d::builtin_list(cw4d::default_catalogue())) {
     INFO(b.spec);
     CHECK(r.out.find(b.spec) != std::string::npos);
     CHECK(r.out.find(b.description) != std::string::npos);
@@ -228,7 +229,8 @@ TEST_CASE("slice writes the library's section, with rotations applied in the ord
     REQUIRE(r.code == 0);
 
     const cw4d::Section expected =
-        cw4d::section(cw4d::load_model(c.model), cw4d::Hyperplane::from(c.normal, c.offset), c.xf);
+        cw4d::section(cw4d::load_model(c.model, cw4d::default_catalogue()),
+                      cw4d::Hyperplane::from(c.normal, c.offset), c.xf);
     REQUIRE(!expected.empty());
     const Obj obj = read_obj(dir / out);
     const auto& sc = expected.complex;
@@ -474,8 +476,8 @@ TEST_CASE("slice of a 3D model writes its polygon outline as OBJ line elements",
   INFO(r.err);
   REQUIRE(r.code == 0);
   const std::string text = read_text(dir / "outline.obj");
-  const cw4d::Section expect =
-      cw4d::section(cw4d::load_model("cube:3"), cw4d::Hyperplane::from(vec({0, 1, 1}), 0.5));
+  const cw4d::Section expect = cw4d::section(cw4d::load_model("cube:3", cw4d::default_catalogue()),
+                                             cw4d::Hyperplane::from(vec({0, 1, 1}), 0.5));
   std::size_t v = 0, l = 0, f = 0;
   std::istringstream in(text);
   std::string line;
@@ -502,7 +504,7 @@ TEST_CASE("slice to .svg draws exactly the faces that face the viewer", "[cli]")
   for (std::size_t at = text.find("<polygon"); at != std::string::npos;
        at = text.find("<polygon", at + 1))
     ++polygons;
-  const cw4d::Complex model = cw4d::load_model("tesseract");
+  const cw4d::Complex model = cw4d::load_model("tesseract", cw4d::default_catalogue());
   const cw4d::AffineTransform xf =
       cw4d::AffineTransform::rotation(4, 0, 1, 15 * std::numbers::pi / 180);
   const cw4d::Section s = cw4d::section(model, cw4d::Hyperplane::from(vec({1, 1, 1, 1}), 0.5), xf);

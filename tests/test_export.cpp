@@ -29,6 +29,7 @@
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/uvw.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "support/oracle.hpp"
 #include "support/temp_dir.hpp"
 #include "support/vectors.hpp"
@@ -241,7 +242,7 @@ struct RandomPlanes {
 
 TEST_CASE("glTF: the tesseract cut at w = d is the cube [-1,1]^3 with its cells and UVW",
           "[export][gltf]") {
-  const cw4d::Complex tesseract = cw4d::load_model("tesseract");
+  const cw4d::Complex tesseract = cw4d::load_model("tesseract", cw4d::default_catalogue());
   for (double d : {-0.5, 0.0, 0.25, 0.9}) {
     INFO("d = " << d);
     const cw4d::Section sec =
@@ -313,7 +314,7 @@ TEST_CASE("glTF: random sections keep the oracle's volume and a closed surface p
           "[export][gltf]") {
   RandomPlanes planes;
   for (const char* spec : {"24-cell", "duoprism:5,7", "cantellated tesseract", "120-cell"}) {
-    const cw4d::Complex model = cw4d::load_model(spec);
+    const cw4d::Complex model = cw4d::load_model(spec, cw4d::default_catalogue());
     const double radius = cw4d::max_radius(model);
     for (int k = 0; k < 6; ++k) {
       const cw4d::Hyperplane plane = planes.next(radius);
@@ -377,7 +378,7 @@ TEST_CASE("glTF: a scene gives one node per object it meets, with its colors and
 }
 
 TEST_CASE("glTF: a sweep's animation shows exactly one layer at every key", "[export][gltf]") {
-  const cw4d::Complex model = cw4d::load_model("16-cell");
+  const cw4d::Complex model = cw4d::load_model("16-cell", cw4d::default_catalogue());
   std::vector<cw4d::GltfNode> nodes;
   const int layers = 5;
   for (int i = 0; i < layers; ++i) {
@@ -426,7 +427,7 @@ TEST_CASE("glTF: a sweep's animation shows exactly one layer at every key", "[ex
 TEST_CASE("glTF: .gltf JSON with its .bin, written atomically; bad paths leave nothing",
           "[export][gltf]") {
   TempDir dir;
-  const cw4d::Complex model = cw4d::load_model("tesseract");
+  const cw4d::Complex model = cw4d::load_model("tesseract", cw4d::default_catalogue());
   const cw4d::Section sec = cw4d::section(model, cw4d::Hyperplane::from(vec({1, 1, 1, 1}), 0.3));
   const auto nodes = nodes_of(sec, model);
   const std::string path = (dir / "my section.gltf").string();
@@ -467,7 +468,7 @@ TEST_CASE("PLY: binary, welded per color into a watertight mesh with the oracle'
   TempDir dir;
   RandomPlanes planes;
   for (const char* spec : {"tesseract", "24-cell", "600-cell"}) {
-    const cw4d::Complex model = cw4d::load_model(spec);
+    const cw4d::Complex model = cw4d::load_model(spec, cw4d::default_catalogue());
     const cw4d::Hyperplane plane = planes.next(0.5 * cw4d::max_radius(model));
     const cw4d::Section sec = cw4d::section(model, plane);
     REQUIRE(!sec.empty());
@@ -488,7 +489,8 @@ TEST_CASE("PLY: binary, welded per color into a watertight mesh with the oracle'
 TEST_CASE("PLY: colors are sRGB bytes, vertices split only where colors change", "[export][ply]") {
   TempDir dir;
   const cw4d::Hyperplane plane = cw4d::Hyperplane::from(vec({0, 0, 0, 1}), 0.0);
-  const std::uint32_t cut_cell = cw4d::section(cw4d::load_model("tesseract"), plane).source[2][0];
+  const std::uint32_t cut_cell =
+      cw4d::section(cw4d::load_model("tesseract", cw4d::default_catalogue()), plane).source[2][0];
   std::istringstream json(R"({"objects": [{"model": "tesseract", "color": [0.5, 0.25, 1],
       "opacity": 0.5, "cell_colors": {")" +
                           std::to_string(cut_cell) + R"(": [1, 0, 0]}}]})");
@@ -510,7 +512,7 @@ TEST_CASE("STL: binary triangles with outward normals and the oracle's volume", 
   TempDir dir;
   RandomPlanes planes;
   for (const char* spec : {"tesseract", "omnitruncated tesseract", "duoprism:6,9"}) {
-    const cw4d::Complex model = cw4d::load_model(spec);
+    const cw4d::Complex model = cw4d::load_model(spec, cw4d::default_catalogue());
     const cw4d::Hyperplane plane = planes.next(0.5 * cw4d::max_radius(model));
     const cw4d::Section sec = cw4d::section(model, plane);
     REQUIRE(!sec.empty());
@@ -578,7 +580,7 @@ TEST_CASE("OBJ: a scene's section starts each object with an `o` line named afte
 }
 
 TEST_CASE("OBJ: `vt u v w` per corner, referenced as v/vt/vn, inside [0,1]^3", "[export][obj]") {
-  const cw4d::Complex model = cw4d::load_model("24-cell");
+  const cw4d::Complex model = cw4d::load_model("24-cell", cw4d::default_catalogue());
   const cw4d::Section sec = cw4d::section(model, cw4d::Hyperplane::from(vec({1, 2, 2, 3}), 0.4));
   const cw4d::CornerUvw uvw = cw4d::section_uvw(sec, {&model});
   cw4d::ObjOptions opt;
@@ -633,7 +635,7 @@ TEST_CASE("UVW: every facet's box maps its own vertices onto [0,1]^3, touching 0
           "[export][uvw]") {
   for (const char* spec :
        {"tesseract", "24-cell", "120-cell", "duoprism:3,8", "truncated 5-cell"}) {
-    const cw4d::Complex model = cw4d::load_model(spec);
+    const cw4d::Complex model = cw4d::load_model(spec, cw4d::default_catalogue());
     const auto maps = cw4d::facet_texture_maps(model);
     REQUIRE(maps.size() == model.count(3));
     for (std::uint32_t c = 0; c < model.count(3); ++c) {
@@ -661,8 +663,8 @@ TEST_CASE("non-convex sections: a polygon with a hole is triangulated around it 
   // area 12 x height (2 - c) x sqrt(2). The cut of the cell frame x {w = 1} is a square annulus:
   // an outer loop and a hole of one cell.
   TempDir dir;
-  const cw4d::Complex model =
-      cw4d::load_model("extrude:" + std::string(CW4D_TEST_DATA_DIR) + "/frame.off");
+  const cw4d::Complex model = cw4d::load_model(
+      "extrude:" + std::string(CW4D_TEST_DATA_DIR) + "/frame.off", cw4d::default_catalogue());
   const double c = 0.5;
   const cw4d::Hyperplane plane = cw4d::Hyperplane::from(vec({0, 0, 1, 1}), c / std::sqrt(2.0));
   const cw4d::Section sec = cw4d::section(model, plane);

@@ -24,6 +24,7 @@
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 
 using namespace cw4d;
@@ -119,7 +120,7 @@ TEST_CASE("the hull of every Wythoff polychoron's vertices is the Wythoff comple
     for (unsigned mask = 1; mask < 16; ++mask) {
       const std::string d = diagram(mask, labels);
       INFO(d);
-      const Complex w = load_model("wythoff:" + d);
+      const Complex w = load_model("wythoff:" + d, default_catalogue());
       const Complex h = convex_hull(w.positions());
       CHECK(h.fvector() == w.fvector());
       check_valid(h);
@@ -129,7 +130,7 @@ TEST_CASE("the hull of every Wythoff polychoron's vertices is the Wythoff comple
 }
 
 TEST_CASE("the 120-cell's vertices give 120 dodecahedra of pentagons", "[hull]") {
-  const Complex h = convex_hull(load_model("120-cell").positions());
+  const Complex h = convex_hull(load_model("120-cell", default_catalogue()).positions());
   CHECK(h.fvector() == FVector{600, 1200, 720, 120});
   for (std::uint32_t f = 0; f < h.count(2); ++f) CHECK(h.boundary(2).row_size(f) == 5);
   for (std::uint32_t c = 0; c < h.count(3); ++c) CHECK(h.boundary(3).row_size(c) == 12);
@@ -306,7 +307,7 @@ TEST_CASE("rounded centres of golden-ratio faces, slightly outside, are dropped"
           "[hull][robust]") {
   // The centroids of the 120-cell's edges, pentagons and dodecahedra, computed in double and
   // pushed out by 1e-12 (relative): CGAL sees some of them as hull vertices; the merge must not.
-  const Complex c = load_model("120-cell");
+  const Complex c = load_model("120-cell", default_catalogue());
   const Eigen::MatrixXd& v = c.positions();
   std::vector<Eigen::VectorXd> centres;
   for (int rank : {1, 2, 3})
@@ -367,26 +368,23 @@ TEST_CASE("glome volumes approach pi^2 R^4 / 2", "[hull][models]") {
     previous_error = error;
   }
   CHECK(previous_error < 0.02);
-  // Volume scales with R^4; the spec goes through the registry.
-  register_hull_models();
-  const double v1 = signed_volume(load_model("glome:1,3"));
-  const double v2 = signed_volume(load_model("glome:2.5,3"));
+  // Volume scales with R^4; the spec goes through the default catalogue.
+  const double v1 = signed_volume(load_model("glome:1,3", default_catalogue()));
+  const double v2 = signed_volume(load_model("glome:2.5,3", default_catalogue()));
   CHECK(v2 == Approx(std::pow(2.5, 4) * v1).epsilon(1e-9));
-  CHECK_THROWS_AS(load_model("glome:0,3"), InputError);
-  CHECK_THROWS_AS(load_model("glome:1,0"), InputError);
-  CHECK_THROWS_AS(load_model("glome:1"), InputError);
-  CHECK_THROWS_AS(load_model("glome:x,3"), InputError);
+  CHECK_THROWS_AS(load_model("glome:0,3", default_catalogue()), InputError);
+  CHECK_THROWS_AS(load_model("glome:1,0", default_catalogue()), InputError);
+  CHECK_THROWS_AS(load_model("glome:1", default_catalogue()), InputError);
+  CHECK_THROWS_AS(load_model("glome:x,3", default_catalogue()), InputError);
 }
 
 TEST_CASE("hull:FILE reads points and reports bad lines with their numbers", "[hull][file]") {
-  register_hull_models();
-  register_hull_models();  // idempotent
   const TempDir dir("file");
   const std::string good = dir.write("cube.txt",
                                      "# the cube, with an interior point\n"
                                      "-1 -1 -1\n 1,-1,-1\n-1, 1 ,-1  # comment\n1 1 -1\n\n"
                                      "-1 -1 1\n1 -1 1\n-1 1 1\n1 1 1\n0 0 0.5\n");
-  const Complex c = load_model("hull:" + good);
+  const Complex c = load_model("hull:" + good, default_catalogue());
   CHECK(c.fvector() == FVector{8, 12, 6});
   check_valid(c);
   const Eigen::MatrixXd p = read_point_file(good);
@@ -396,7 +394,7 @@ TEST_CASE("hull:FILE reads points and reports bad lines with their numbers", "[h
   const auto line_of = [&](const std::string& name, const std::string& text) {
     const std::string path = dir.write(name, text);
     try {
-      load_model("hull:" + path);
+      load_model("hull:" + path, default_catalogue());
     } catch (const ParseError& e) {
       CHECK(e.file() == path);
       CHECK(std::string(e.what()).find(path + ":" + std::to_string(e.line()) + ": ") == 0);
@@ -414,30 +412,30 @@ TEST_CASE("hull:FILE reads points and reports bad lines with their numbers", "[h
   CHECK(line_of("missing.txt-does-not-exist/none", "") == 0);
   // Parsable but degenerate: an input error, not a parse error.
   const std::string flat = dir.write("flat.txt", "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
-  CHECK_THROWS_AS(load_model("hull:" + flat), InputError);
+  CHECK_THROWS_AS(load_model("hull:" + flat, default_catalogue()), InputError);
 }
 
 TEST_CASE("the hull models are registered under their names and aliases", "[hull][models]") {
-  register_hull_models();
   for (const char* spec :
        {"snub cube", "snic", "snub dodecahedron", "snid", "snub 24-cell", "Snub-24-Cell", "sadi",
         "grand antiprism", "GAP", "glome:1,2", "hull:x.txt"})
-    CHECK(is_builtin_spec(spec));
-  CHECK(load_model("sadi").fvector() == FVector{96, 432, 480, 144});
-  CHECK(load_model("gap").fvector() == FVector{100, 500, 720, 320});
-  CHECK(load_model("snic").fvector() == FVector{24, 60, 38});
-  CHECK(load_model("Snub-Dodecahedron").fvector() == FVector{60, 150, 92});
+    CHECK(is_builtin_spec(spec, default_catalogue()));
+  CHECK(load_model("sadi", default_catalogue()).fvector() == FVector{96, 432, 480, 144});
+  CHECK(load_model("gap", default_catalogue()).fvector() == FVector{100, 500, 720, 320});
+  CHECK(load_model("snic", default_catalogue()).fvector() == FVector{24, 60, 38});
+  CHECK(load_model("Snub-Dodecahedron", default_catalogue()).fvector() == FVector{60, 150, 92});
   // Prism over (V, E, F): (2V, 2E + V, 2F + E, F + 2).
-  const Complex prism = load_model("prism:snub cube");
+  const Complex prism = load_model("prism:snub cube", default_catalogue());
   CHECK(prism.fvector() == FVector{48, 144, 136, 40});
   check_valid(prism);
   int hull_entries = 0;
-  for (const auto& info : builtin_list()) hull_entries += info.spec == "hull:FILE";
+  for (const auto& info : builtin_list(default_catalogue()))
+    hull_entries += info.spec == "hull:FILE";
   CHECK(hull_entries == 1);
 }
 
 TEST_CASE("hull timing of the omnitruncated 120-cell (informational)", "[hull][.timing]") {
-  const Complex w = load_model("wythoff:x5x3x3x");
+  const Complex w = load_model("wythoff:x5x3x3x", default_catalogue());
   const auto start = std::chrono::steady_clock::now();
   const Complex h = convex_hull(w.positions());
   const double seconds =

@@ -1,4 +1,4 @@
-// Tests of complex/operators and complex/mesh_import: pyramids, polar duals, antiprisms, the
+// Tests of complex/operators and export/mesh_import: pyramids, polar duals, antiprisms, the
 // round shapes (convex, converging to their analytic volumes), mesh files read through OpenMesh
 // and their extrusions and solids of revolution, and the model specs of all of them.
 #include <catch2/catch.hpp>
@@ -21,10 +21,10 @@
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
-#include "cw4d/complex/mesh_import.hpp"
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/complex/wythoff.hpp"
+#include "cw4d/export/mesh_import.hpp"
 
 using namespace cw4d;
 
@@ -32,6 +32,13 @@ namespace {
 
 using FVector = std::vector<std::size_t>;
 constexpr double pi = std::numbers::pi;
+
+// The core families with export/'s mesh-file families (extrude:, spin:), as a program that links
+// cw4d::export but not cw4d::tetrahedralize would build it.
+const Catalogue& mesh_catalogue() {
+  static const Catalogue catalogue = core_catalogue().extended(mesh_file_families());
+  return catalogue;
+}
 
 void require_valid(const Complex& c) {
   const ValidationReport report = validate(c);
@@ -152,9 +159,10 @@ TEST_CASE("duals of the regular polychora", "[operators][dual]") {
 
   // dual:MODEL keeps the circumradius; for regular polytopes the dual of the dual is the original.
   const Complex c120 = make_wythoff("x5o3o3o");
-  const Complex same = load_model("dual:120-cell");
+  const Complex same = load_model("dual:120-cell", mesh_catalogue());
   CHECK(max_radius(same) == Approx(max_radius(c120)));
-  CHECK(signed_volume(load_model("dual:dual:120-cell")) == Approx(signed_volume(c120)));
+  CHECK(signed_volume(load_model("dual:dual:120-cell", mesh_catalogue())) ==
+        Approx(signed_volume(c120)));
   const Complex t = make_dual_same_size(make_dual_same_size(make_cube(4)));
   CHECK((t.positions().cwiseAbs().array() - 1.0).abs().maxCoeff() < 1e-12);
 }
@@ -193,7 +201,7 @@ TEST_CASE("dual rejects non-convex input and bad radii", "[operators][dual][erro
   CHECK_FALSE(is_convex(l_shape));
   CHECK_THROWS_AS(make_dual(l_shape), InputError);
   CHECK_THROWS_AS(make_dual(make_cube(3), 0.0), InputError);
-  CHECK_THROWS_AS(load_model("dual:spin:nothing,3"), Error);
+  CHECK_THROWS_AS(load_model("dual:spin:nothing,3", mesh_catalogue()), Error);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -217,7 +225,7 @@ TEST_CASE("uniform antiprisms and antiprismatic prisms", "[operators][antiprism]
     CHECK(signed_volume(a) == Approx(antiprism_volume(n)));
     CHECK(is_convex(a));
 
-    const Complex p = load_model("prism:antiprism:" + std::to_string(n));
+    const Complex p = load_model("prism:antiprism:" + std::to_string(n), mesh_catalogue());
     require_valid(p);
     CHECK(p.fvector() == FVector{4 * un, 10 * un, 8 * un + 4, 2 * un + 4});
     std::tie(lo, hi) = edge_length_range(p);
@@ -291,7 +299,7 @@ TEST_CASE("round shapes: exact counts and volumes", "[operators][round]") {
        {"sphere:0,8", "sphere:-1,8", "sphere:1,2", "sphere:1,1001", "sphere:1", "sphere:x,8",
         "sphere:1,8.5", "duocylinder:1", "cubinder:,8", "cylinder:nan,8", "spherinder:1,8,2"}) {
     INFO(bad);
-    CHECK_THROWS_AS(load_model(bad), InputError);
+    CHECK_THROWS_AS(load_model(bad, mesh_catalogue()), InputError);
   }
 }
 
@@ -357,16 +365,17 @@ TEST_CASE("read_polyhedron errors name the file", "[mesh_import][errors]") {
   }
   CHECK_THROWS_AS(read_polyhedron(dir.write("cube.xyz", cube_obj(-1.0))), ParseError);
   CHECK_THROWS_AS(read_polyhedron(dir.write("empty.obj", "# nothing\n")), ParseError);
-  CHECK_THROWS_AS(load_model("extrude:" + missing), ParseError);
+  CHECK_THROWS_AS(load_model("extrude:" + missing, mesh_catalogue()), ParseError);
 }
 
 TEST_CASE("extrusions of mesh files are prisms", "[mesh_import][extrude]") {
   TempDir dir("extrude");
-  const Complex t = load_model("extrude:" + dir.write("cube.obj", cube_obj(-1.0)));
+  const Complex t =
+      load_model("extrude:" + dir.write("cube.obj", cube_obj(-1.0)), mesh_catalogue());
   require_valid(t);
   CHECK(t.fvector() == make_cube(4).fvector());
   CHECK(signed_volume(t) == Approx(16.0));
-  const Complex p = load_model("extrude:" + dir.write("prism.off", prism_off));
+  const Complex p = load_model("extrude:" + dir.write("prism.off", prism_off), mesh_catalogue());
   require_valid(p);
   CHECK(p.fvector() == FVector{12, 24, 19, 7});
   CHECK(signed_volume(p) == Approx(6.0 * 2.0));
@@ -378,7 +387,8 @@ TEST_CASE("spin: polytopal solids of revolution", "[operators][spin]") {
     INFO("steps " << steps);
     // Cube [1,3] x [-1,1]^2, away from the axis: integral of x = 16.
     const Complex ring =
-        load_model("spin:" + dir.write("ring.obj", cube_obj(1.0)) + "," + std::to_string(steps));
+        load_model("spin:" + dir.write("ring.obj", cube_obj(1.0)) + "," + std::to_string(steps),
+                   mesh_catalogue());
     require_valid(ring);
     const std::size_t s = steps;
     CHECK(ring.fvector() == FVector{8 * s, 20 * s, 18 * s, 6 * s});
@@ -396,41 +406,43 @@ TEST_CASE("spin: polytopal solids of revolution", "[operators][spin]") {
       "tet.off", "OFF\n4 4 0\n0 0 0\n0 1 0\n1 0 1\n1 1 0\n3 0 1 2\n3 1 3 2\n3 0 2 3\n3 0 3 1\n"));
   require_valid(make_spin(tet, 6));
   // Spinning converges to Pappus: 2 pi * integral of x.
-  const Complex fine = load_model("spin:" + dir.write("r.obj", cube_obj(1.0)) + ",400");
+  const Complex fine =
+      load_model("spin:" + dir.write("r.obj", cube_obj(1.0)) + ",400", mesh_catalogue());
   CHECK(signed_volume(fine) == Approx(2.0 * pi * 16.0).epsilon(1e-3));
 
   CHECK_THROWS_AS(make_spin(read_polyhedron(dir.write("neg.obj", cube_obj(-1.0))), 8), InputError);
   CHECK_THROWS_AS(make_spin(make_cube(3), 2), InputError);
   CHECK_THROWS_AS(make_spin(make_cube(4), 8), InputError);
-  CHECK_THROWS_AS(load_model("spin:" + dir.write("x.obj", cube_obj(1.0))), InputError);
+  CHECK_THROWS_AS(load_model("spin:" + dir.write("x.obj", cube_obj(1.0)), mesh_catalogue()),
+                  InputError);
 }
 
 // ---------------------------------------------------------------------------------------------
 // model specs
 
 TEST_CASE("operator and round-shape specs are registered and listed", "[operators][spec]") {
-  CHECK(load_model("pyramid:cube:3").fvector() == FVector{9, 20, 18, 7});
-  CHECK(load_model("dual:tesseract").fvector() == FVector{8, 24, 32, 16});
-  CHECK(load_model("dual:dual:tesseract").fvector() == make_cube(4).fvector());
-  CHECK(load_model("antiprism:5").fvector() == FVector{10, 20, 12});
-  CHECK(load_model("Duocylinder:1.5,6").fvector() == FVector{36, 72, 48, 12});
-  CHECK(load_model("cubinder:1,6").fvector() ==
+  CHECK(load_model("pyramid:cube:3", mesh_catalogue()).fvector() == FVector{9, 20, 18, 7});
+  CHECK(load_model("dual:tesseract", mesh_catalogue()).fvector() == FVector{8, 24, 32, 16});
+  CHECK(load_model("dual:dual:tesseract", mesh_catalogue()).fvector() == make_cube(4).fvector());
+  CHECK(load_model("antiprism:5", mesh_catalogue()).fvector() == FVector{10, 20, 12});
+  CHECK(load_model("Duocylinder:1.5,6", mesh_catalogue()).fvector() == FVector{36, 72, 48, 12});
+  CHECK(load_model("cubinder:1,6", mesh_catalogue()).fvector() ==
         make_product(make_polygon(6), make_cube(2)).fvector());
-  CHECK(load_model("cylinder:1,6").fvector() == FVector{12, 18, 8});
-  CHECK(signed_volume(load_model("cone:sphere:1,16")) ==
+  CHECK(load_model("cylinder:1,6", mesh_catalogue()).fvector() == FVector{12, 18, 8});
+  CHECK(signed_volume(load_model("cone:sphere:1,16", mesh_catalogue())) ==
         Approx(signed_volume(make_uv_sphere(1.0, 16)) / 4.0));
-  CHECK(signed_volume(load_model("cone:cylinder:2,16")) ==
+  CHECK(signed_volume(load_model("cone:cylinder:2,16", mesh_catalogue())) ==
         Approx(signed_volume(make_cylinder(2.0, 16)) * 2.0 / 4.0));
-  CHECK(validate(load_model("spherinder:1,8")).ok());
+  CHECK(validate(load_model("spherinder:1,8", mesh_catalogue())).ok());
   for (const char* spec : {"pyramid:cube:3", "dual:24-cell", "antiprism:4", "sphere:1,8",
                            "extrude:x.obj", "spin:x.obj,8", "cone:sphere:1,8"})
-    CHECK(is_builtin_spec(spec));
+    CHECK(is_builtin_spec(spec, mesh_catalogue()));
   std::vector<std::string> usages;
-  for (const auto& info : builtin_list()) usages.push_back(info.spec);
+  for (const auto& info : builtin_list(mesh_catalogue())) usages.push_back(info.spec);
   for (const char* usage :
        {"pyramid:MODEL", "cone:MODEL", "dual:MODEL", "antiprism:N", "cylinder:R,N", "sphere:R,N",
         "duocylinder:R,N", "cubinder:R,N", "spherinder:R,N", "extrude:FILE", "spin:FILE,STEPS"})
     CHECK(std::find(usages.begin(), usages.end(), usage) != usages.end());
-  CHECK_THROWS_AS(load_model("pyramid:nothing"), InputError);
-  CHECK_THROWS_AS(load_model("antiprism:x"), InputError);
+  CHECK_THROWS_AS(load_model("pyramid:nothing", mesh_catalogue()), InputError);
+  CHECK_THROWS_AS(load_model("antiprism:x", mesh_catalogue()), InputError);
 }

@@ -21,10 +21,10 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 #include "support/oracle.hpp"
 #include "support/planes.hpp"
-#include "support/registration.hpp"
 
 using namespace cw4d;
 using cw4d::test::random_orthogonal;
@@ -42,13 +42,12 @@ struct Shape {
 const std::vector<Shape>& shapes_4d() {
   static const std::vector<Shape> shapes = [] {
     std::vector<Shape> s;
-    test::register_optional_models();
     for (std::string spec :
          {"5-cell", "tesseract", "16-cell", "duoprism:3,4", "duoprism:5,7", "duoprism:12,9",
           "prism:simplex:3", "prism:orthoplex:3", "truncated tesseract", "snub 24-cell",
           "grand antiprism", "pyramid:cube:3", "dual:24-cell", "duocylinder:1,9",
           "prism:antiprism:5", "cone:sphere:1,6"})
-      s.push_back({spec, load_model(spec)});
+      s.push_back({spec, load_model(spec, default_catalogue())});
     const std::string dir = std::string(CW4D_TEST_DATA_DIR) + "/miratope/regular/";
     for (std::string file : {"Icositetrachoron", "Hexacosichoron", "Hecatonicosachoron"})
       s.push_back({file, read_off_file(dir + file + ".off")});
@@ -62,7 +61,7 @@ const std::vector<Shape>& shapes_other_dims() {
     std::vector<Shape> s;
     for (std::string spec : {"cube:3", "simplex:3", "orthoplex:3", "prism:polygon:7", "cube:5",
                              "simplex:5", "orthoplex:5", "prism:tesseract"})
-      s.push_back({spec, load_model(spec)});
+      s.push_back({spec, load_model(spec, default_catalogue())});
     return s;
   }();
   return shapes;
@@ -173,7 +172,7 @@ TEST_CASE("oracle: the B-spline section volume matches the closed form for cubes
 }
 
 TEST_CASE("section: the tesseract cut by (1,1,1,1), 0 is a regular octahedron") {
-  const Complex t = load_model("tesseract");
+  const Complex t = load_model("tesseract", default_catalogue());
   const Section s = section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 0.0));
   REQUIRE(s.complex.fvector() == std::vector<std::size_t>{6, 12, 8});
   CHECK(signed_volume(s.complex) == Approx(32.0 / 3.0).epsilon(1e-12));
@@ -335,14 +334,14 @@ TEST_CASE("degenerate: grid-snapped planes on the tesseract, 16-cell and 24-cell
 }
 
 TEST_CASE("section: planes that miss or only touch the model give an empty section") {
-  const Complex t = load_model("tesseract");
+  const Complex t = load_model("tesseract", default_catalogue());
   CHECK(section(t, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.5)).empty());
   CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 1), 2.0)).empty());  // a vertex
   CHECK(section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 1, 0), std::sqrt(3.0)))
             .empty());  // an edge
   CHECK(
       section(t, Hyperplane::from(Eigen::Vector4d(1, 1, 0, 0), std::sqrt(2.0))).empty());  // a face
-  const Complex c16 = load_model("16-cell");
+  const Complex c16 = load_model("16-cell", default_catalogue());
   CHECK(section(c16, Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 1.0)).empty());  // a vertex
 }
 
@@ -456,7 +455,7 @@ TEST_CASE("hyperplane: a zero or non-finite normal is rejected") {
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d::Zero(), 0.0), InputError);
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, NAN, 0, 0), 0.0), InputError);
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, 0, 0, 0), INFINITY), InputError);
-  const Complex t = load_model("tesseract");
+  const Complex t = load_model("tesseract", default_catalogue());
   CHECK_THROWS_AS(section(t, Hyperplane::from(Eigen::Vector3d(1, 0, 0), 0.0)), InputError);
 }
 
@@ -467,8 +466,8 @@ TEST_CASE("regression: cutting a 2D complex (a section of a section of a section
   REQUIRE(points.complex.count(0) == 2);
   CHECK(points.complex.ambient_dim() == 1);
   // 4D -> 3D -> 2D -> 1D: the last cut of a closed polygon is two points.
-  const Section s3 =
-      section(load_model("tesseract"), Hyperplane::from(Eigen::Vector4d(0.1, 0.2, 0.3, 1), 0.1));
+  const Section s3 = section(load_model("tesseract", default_catalogue()),
+                             Hyperplane::from(Eigen::Vector4d(0.1, 0.2, 0.3, 1), 0.1));
   const Section s2 = section(s3.complex, Hyperplane::from(Eigen::Vector3d(0.2, 0.1, 1), 0.05));
   const Section s1 = section(s2.complex, Hyperplane::from(Eigen::Vector2d(0.3, 1), 0.02));
   REQUIRE(validate(s2.complex).ok());
@@ -497,7 +496,7 @@ double cube_cap_volume(const Eigen::Vector3d& a, double t) {
 TEST_CASE("regression: planes nearly parallel to a facet keep planar faces and the true volume") {
   // n = (1e-9, 2e-9, 4e-9, 1): the plane is tilted by ~5e-9 rad from the cell w = 1. A wide ON
   // band used to snap a vertex 2e-10 away from the plane and bend its polygons by 2%.
-  const Complex t = load_model("tesseract");
+  const Complex t = load_model("tesseract", default_catalogue());
   const Eigen::Vector4d n(1e-9, 2e-9, 4e-9, 1.0);
   for (double delta : {-8e-10, -3e-10, -1e-10, 1e-10, 3e-10, 8e-10, 2e-9, 5e-9}) {
     const double d = 1.0 + delta;  // the distance along n/|n| (|n| = 1 to 1e-17)

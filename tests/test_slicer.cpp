@@ -16,7 +16,6 @@
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "support/planes.hpp"
-#include "support/registration.hpp"
 
 using namespace cw4d;
 
@@ -127,7 +126,6 @@ const std::vector<std::string>& models_4d() {
 }  // namespace
 
 TEST_CASE("the fast path builds the general path's section", "[slicer]") {
-  test::register_optional_models();
   std::mt19937 rng(8101);
   std::size_t fast = 0, total = 0;
   for (const std::string& spec : models_4d()) {
@@ -212,7 +210,6 @@ TEST_CASE("degenerate planes fall back to the general path", "[slicer]") {
 }
 
 TEST_CASE("a sweep gives every layer exactly as a single slice", "[slicer][sweep]") {
-  test::register_optional_models();
   std::mt19937 rng(8103);
   for (const std::string& spec : models_4d()) {
     INFO(spec);
@@ -302,7 +299,6 @@ TEST_CASE("cluster culling gives the unculled buffers", "[slicer][cull]") {
 }
 
 TEST_CASE("the topology cache reuses connectivity only when it is exact", "[slicer][cache]") {
-  test::register_optional_models();
   std::mt19937 rng(8105);
   for (const std::string spec : {"120-cell", "tesseract", "duoprism:5,7"}) {
     INFO(spec);

@@ -30,8 +30,8 @@
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "support/planes.hpp"
-#include "support/registration.hpp"
 
 using namespace cw4d;
 using cw4d::test::random_orthogonal;
@@ -48,10 +48,10 @@ struct Model {
   bool convex;
 };
 
-// Every 4D family of the registry (one or two members each) and every convex Miratope file.
+// Every 4D family of the default catalogue (one or two members each) and every convex Miratope
+// file.
 const std::vector<Model>& models() {
   static const std::vector<Model> all = [] {
-    test::register_optional_models();
     const std::string data = CW4D_TEST_DATA_DIR;
     std::vector<std::string> specs = {"5-cell",
                                       "tesseract",
@@ -98,7 +98,7 @@ const std::vector<Model>& models() {
       const bool convex = is_convex(c);
       m.push_back({name, std::move(c), scale, elements, convex});
     };
-    for (const auto& spec : specs) add(spec, load_model(spec));
+    for (const auto& spec : specs) add(spec, load_model(spec, default_catalogue()));
     const std::string dir = std::string(CW4D_TEST_DATA_DIR) + "/miratope/";
     for (const char* name : {"Pentachoron", "Tesseract", "Hexadecachoron", "Icositetrachoron",
                              "Hecatonicosachoron", "Hexacosichoron"})

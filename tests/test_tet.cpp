@@ -29,11 +29,11 @@
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/triangulate.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/tet_io.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
 #include "support/oracle.hpp"
-#include "support/registration.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace cw4d;
@@ -55,7 +55,6 @@ const char* kLPrismObj =
 const std::vector<Shape>& convex_shapes() {
   static const std::vector<Shape> shapes = [] {
     std::vector<Shape> s;
-    test::register_optional_models();
     for (std::string spec : {"5-cell",
                              "tesseract",
                              "16-cell",
@@ -86,7 +85,7 @@ const std::vector<Shape>& convex_shapes() {
                              "cantitruncated 24-cell",
                              "prism:orthoplex:3",
                              "prism:cube:3"})
-      s.push_back({spec, load_model(spec)});
+      s.push_back({spec, load_model(spec, default_catalogue())});
     // Models made from mesh files: the prism over a cube, and a cube in x >= 1 spun in 7 steps.
     static const test::TempDir dir("tet_shapes");
     dir.write("cube.obj", test::read_text(std::string(CW4D_TEST_DATA_DIR) + "/cube.obj"));
@@ -102,9 +101,10 @@ const std::vector<Shape>& convex_shapes() {
       shifted += line + "\n";
     }
     dir.write("shifted.obj", shifted);
-    s.push_back({"extrude:cube.obj", load_model("extrude:" + (dir / "cube.obj").string())});
-    s.push_back(
-        {"spin:shifted.obj,7", load_model("spin:" + (dir / "shifted.obj").string() + ",7")});
+    s.push_back({"extrude:cube.obj",
+                 load_model("extrude:" + (dir / "cube.obj").string(), default_catalogue())});
+    s.push_back({"spin:shifted.obj,7",
+                 load_model("spin:" + (dir / "shifted.obj").string() + ",7", default_catalogue())});
     return s;
   }();
   return shapes;
@@ -114,7 +114,8 @@ const Shape& l_prism() {
   static const Shape shape = [] {
     static const test::TempDir dir("tet_lprism");
     dir.write("l.obj", kLPrismObj);
-    return Shape{"extrude:L", load_model("extrude:" + (dir / "l.obj").string())};
+    return Shape{"extrude:L",
+                 load_model("extrude:" + (dir / "l.obj").string(), default_catalogue())};
   }();
   return shape;
 }
@@ -252,7 +253,6 @@ std::size_t cw_triangles(const Section& s) {
 }  // namespace
 
 TEST_CASE("tet: counts of the regular polychora", "[tet]") {
-  test::register_optional_models();
   struct Expect {
     std::string spec;
     std::size_t tets;
@@ -265,7 +265,7 @@ TEST_CASE("tet: counts of the regular polychora", "[tet]") {
        {Expect{"5-cell", 5}, Expect{"16-cell", 16}, Expect{"tesseract", 40}, Expect{"24-cell", 96},
         Expect{"120-cell", 3240}, Expect{"600-cell", 600}}) {
     INFO(e.spec);
-    const Complex m = load_model(e.spec);
+    const Complex m = load_model(e.spec, default_catalogue());
     TetStats stats;
     const TetMesh mesh = tetrahedralize(m, {}, &stats);
     CHECK(mesh.size() == e.tets);
@@ -279,7 +279,7 @@ TEST_CASE("tet: counts of the regular polychora", "[tet]") {
   // Without the cube split the tesseract's cubes are coned: 6 each.
   TetOptions no_split;
   no_split.five_tet_cubes = false;
-  CHECK(tetrahedralize(load_model("tesseract"), no_split).size() == 48);
+  CHECK(tetrahedralize(load_model("tesseract", default_catalogue()), no_split).size() == 48);
 }
 
 TEST_CASE("tet: every convex shape tetrahedralizes into exact, conforming, outward tetrahedra",
@@ -419,7 +419,7 @@ TEST_CASE("tet: TetGen failures become MeshingError", "[tet][tetgen]") {
 }
 
 TEST_CASE("tet: box UVW maps each cell onto [0,1]^3 affinely", "[tet][uvw]") {
-  const Complex m = load_model("tesseract");
+  const Complex m = load_model("tesseract", default_catalogue());
   const TetMesh mesh = tetrahedralize(m);
   for (std::uint32_t c = 0; c < m.count(3); ++c) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(2), hi = Eigen::Vector3d::Constant(-1);
@@ -441,7 +441,6 @@ TEST_CASE("tet: box UVW maps each cell onto [0,1]^3 affinely", "[tet][uvw]") {
 }
 
 TEST_CASE("tet: parametric UVW of the glome, spherinder and duocylinder", "[tet][uvw]") {
-  test::register_optional_models();
   REQUIRE(uvw_mapping_for_spec("glome:2,3")->kind == UvwMapping::Kind::Glome);
   REQUIRE(uvw_mapping_for_spec("glome:2,3")->radius == 2.0);
   REQUIRE(uvw_mapping_for_spec("Spherinder:1.5,8")->kind == UvwMapping::Kind::Spherinder);
@@ -451,7 +450,7 @@ TEST_CASE("tet: parametric UVW of the glome, spherinder and duocylinder", "[tet]
 
   for (std::string spec : {"glome:2,4", "spherinder:1.5,8", "duocylinder:1,12"}) {
     INFO(spec);
-    const Complex m = load_model(spec);
+    const Complex m = load_model(spec, default_catalogue());
     TetOptions opt;
     opt.uvw = *uvw_mapping_for_spec(spec);
     const TetMesh mesh = tetrahedralize(m, opt);
@@ -610,7 +609,7 @@ TEST_CASE("tet slicer: the non-convex L prism against the B-spline oracle",
 
 TEST_CASE("tet slicer: interpolated UVW is the cell's box map of the slice point",
           "[tet][slice][uvw]") {
-  const Complex m = load_model("24-cell");
+  const Complex m = load_model("24-cell", default_catalogue());
   const TetMesh mesh = tetrahedralize(m);
   // The box map of each cell, recomputed here from the cell's vertices.
   struct Box {
@@ -652,7 +651,7 @@ TEST_CASE("tet slicer: interpolated UVW is the cell's box map of the slice point
 }
 
 TEST_CASE("tet slicer: transforms, the Section view, and plane misses", "[tet][slice]") {
-  const Complex m = load_model("tesseract");
+  const Complex m = load_model("tesseract", default_catalogue());
   const TetMesh mesh = tetrahedralize(m);
   const AffineTransform xf = AffineTransform::translation(Eigen::Vector4d(0.5, 0, 0, 0.25)) *
                              AffineTransform::rotation(4, 0, 3, 0.3);
@@ -683,7 +682,7 @@ TEST_CASE("tet slicer: transforms, the Section view, and plane misses", "[tet][s
 }
 
 TEST_CASE("tet export: .4do, .node/.ele, .bin/.json and .vtu read back", "[tet][export]") {
-  const TetMesh mesh = tetrahedralize(load_model("tesseract"));
+  const TetMesh mesh = tetrahedralize(load_model("tesseract", default_catalogue()));
   const test::TempDir dir("tet_export");
   // .4do: records in order, zero-based, every t references earlier data.
   write_tet_mesh((dir / "m.4do").string(), mesh);
@@ -848,7 +847,7 @@ TEST_CASE("Schlegel view: the cells behind the front cell tile its image", "[tet
   for (const char* spec : {"tesseract", "5-cell", "24-cell", "120-cell", "600-cell", "duoprism:5,7",
                            "prism:wythoff:x5o3o"}) {
     INFO(spec);
-    const TetMesh mesh = tetrahedralize(load_model(spec));
+    const TetMesh mesh = tetrahedralize(load_model(spec, default_catalogue()));
     const SchlegelView view = schlegel_view(mesh);
     CHECK((view.basis.transpose() * view.basis - Eigen::Matrix3d::Identity()).norm() < 1e-12);
     CHECK((view.basis.transpose() * view.normal).cwiseAbs().maxCoeff() < 1e-12);
@@ -877,7 +876,7 @@ TEST_CASE("Schlegel view: the cells behind the front cell tile its image", "[tet
 
 TEST_CASE(".vtu points are the Schlegel diagram, every tetrahedron with positive volume",
           "[tet][export]") {
-  const TetMesh mesh = tetrahedralize(load_model("24-cell"));
+  const TetMesh mesh = tetrahedralize(load_model("24-cell", default_catalogue()));
   const SchlegelView view = schlegel_view(mesh);
   std::istringstream text(vtu_text(mesh));
   std::string all((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());

@@ -16,6 +16,7 @@
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/scene_section.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 namespace cw4d::cli {
 
@@ -129,7 +130,7 @@ std::vector<std::string> subcommand_names(CLI::App& app) {
 // open (a directory given as the model), which libstdc++ raises as std::ios_base::failure.
 Complex load(const std::string& spec) {
   try {
-    return load_model(spec);
+    return load_model(spec, default_catalogue());
   } catch (const std::ios_base::failure& e) {
     throw ParseError(spec, 0, std::string("cannot read: ") + e.what());
   }
@@ -142,7 +143,7 @@ void require_valid(const Complex& model, const std::string& spec) {
   const auto& first = report.issues.front();
   // A model read from an nOFF file: name the line of the first offending element.
   std::string where;
-  if (!is_builtin_spec(spec) && is_off_extension(lower_extension(spec))) {
+  if (!is_builtin_spec(spec, default_catalogue()) && is_off_extension(lower_extension(spec))) {
     OffLines lines;
     try {
       read_off_file(spec, &lines);
@@ -296,7 +297,7 @@ Input load_input(const Placement& placement) {
   Input in;
   if (!placement.scene.empty()) {
     in.is_scene = true;
-    in.scene = read_scene_file(placement.scene);
+    in.scene = read_scene_file(placement.scene, default_catalogue());
   } else {
     auto model = std::make_shared<const Complex>(load(placement.model));
     SceneObject obj;

@@ -10,6 +10,7 @@
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 namespace cw4d::cli {
 
@@ -17,8 +18,9 @@ void add_list_command(CLI::App& app, Commands& commands) {
   auto* cmd = app.add_subcommand("list", "Print every built-in model spec with a description.");
   commands.push_back({cmd, [] {
                         std::size_t width = 0;
-                        for (const auto& b : builtin_list()) width = std::max(width, b.spec.size());
-                        for (const auto& b : builtin_list())
+                        for (const auto& b : builtin_list(default_catalogue()))
+                          width = std::max(width, b.spec.size());
+                        for (const auto& b : builtin_list(default_catalogue()))
                           std::cout << b.spec << std::string(width + 2 - b.spec.size(), ' ')
                                     << b.description << '\n';
                       }});

@@ -10,7 +10,6 @@
 #include <new>
 
 #include "cli.hpp"
-#include "cw4d/tetrahedralize/hull.hpp"
 #include "run.hpp"
 
 namespace {
@@ -31,7 +30,6 @@ std::string first_word(int argc, char** argv) {
 
 int cw4d::cli::run(int argc, char** argv) {
   namespace cli = cw4d::cli;
-  cw4d::register_hull_models();
   CLI::App app{"cw4d: 4D polytopes as CW complexes, cut by hyperplanes into 3D meshes.", "cw4d"};
   app.footer(cli::kExitCodes);
   app.require_subcommand(1);

@@ -11,7 +11,6 @@
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
-#include "cw4d/complex/mesh_import.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/toratopes.hpp"
@@ -377,14 +376,6 @@ std::pair<std::vector<double>, int> parse_radii_resolution(std::string_view args
   return {radii, parse_ints(args, spec, 1)[0]};
 }
 
-// "FILE,STEPS" of spin: the path is everything before the last comma.
-std::pair<std::string, int> parse_file_steps(std::string_view args, std::string_view spec) {
-  const std::size_t comma = args.rfind(',');
-  if (comma == std::string_view::npos || comma == 0)
-    throw InputError("model spec '" + std::string(spec) + "' expects FILE,STEPS");
-  return {std::string(args.substr(0, comma)), parse_ints(args.substr(comma + 1), spec, 1)[0]};
-}
-
 std::string lower(std::string_view s) {
   std::string out(s);
   for (auto& ch : out) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -424,24 +415,32 @@ ModelFamily named_family(std::vector<std::string> names, std::string description
   f.matches = [names](std::string_view lowered) {
     return std::find(names.begin(), names.end(), lowered) != names.end();
   };
-  f.make = [make = std::move(make)](const std::string&) { return make(); };
+  f.make = [make = std::move(make)](const std::string&, const Catalogue&) { return make(); };
   f.exact = true;
   f.names = std::move(names);
+  return f;
+}
+
+ModelFamily operator_family(
+    std::string head, std::string usage, std::string description,
+    std::function<Complex(const std::string& spec, std::string_view args, const Catalogue&)> make) {
+  ModelFamily f;
+  f.usage = std::move(usage);
+  f.description = std::move(description);
+  f.names = {head + ":"};
+  f.matches = [head](std::string_view lowered) { return head_of(lowered) == head; };
+  f.make = [make = std::move(make)](const std::string& spec, const Catalogue& catalogue) {
+    return make(spec, std::string_view(spec).substr(spec.find(':') + 1), catalogue);
+  };
   return f;
 }
 
 ModelFamily parametric_family(
     std::string head, std::string usage, std::string description,
     std::function<Complex(const std::string& spec, std::string_view args)> make) {
-  ModelFamily f;
-  f.usage = std::move(usage);
-  f.description = std::move(description);
-  f.names = {head + ":"};
-  f.matches = [head](std::string_view lowered) { return head_of(lowered) == head; };
-  f.make = [make = std::move(make)](const std::string& spec) {
-    return make(spec, std::string_view(spec).substr(spec.find(':') + 1));
-  };
-  return f;
+  return operator_family(std::move(head), std::move(usage), std::move(description),
+                         [make = std::move(make)](const std::string& spec, std::string_view args,
+                                                  const Catalogue&) { return make(spec, args); });
 }
 
 namespace {
@@ -470,7 +469,7 @@ std::vector<ModelFamily> default_families() {
     u.matches = [](std::string_view lowered) {
       return uniform_polychoron_diagram(lowered).has_value();
     };
-    u.make = [](const std::string& spec) {
+    u.make = [](const std::string& spec, const Catalogue&) {
       return make_wythoff(*uniform_polychoron_diagram(lower(spec)));
     };
     f.push_back(std::move(u));
@@ -486,7 +485,9 @@ std::vector<ModelFamily> default_families() {
     star.matches = [](std::string_view lowered) {
       return star_polychoron_diagram(lowered).has_value();
     };
-    star.make = [](const std::string& spec) { return make_star_polychoron(lower(spec)); };
+    star.make = [](const std::string& spec, const Catalogue&) {
+      return make_star_polychoron(lower(spec));
+    };
     for (const NamedDiagram& e : star_polychoron_names()) star.names.emplace_back(e.name);
     f.push_back(std::move(star));
   }
@@ -518,23 +519,24 @@ std::vector<ModelFamily> default_families() {
   // Operators applied to the model named by the rest of the spec.
   auto add_operator = [&f](const char* head, const char* usage, const char* description,
                            std::function<Complex(const Complex&)> op) {
-    f.push_back(parametric_family(head, usage, description,
-                                  [op = std::move(op)](const std::string&, std::string_view a) {
-                                    return op(load_model(std::string(a)));
-                                  }));
+    f.push_back(operator_family(
+        head, usage, description,
+        [op = std::move(op)](const std::string&, std::string_view a, const Catalogue& catalogue) {
+          return op(catalogue.load(std::string(a)));
+        }));
   };
   add_operator("prism", "prism:MODEL", "MODEL x [-1,1]: the prism over any model spec or file",
                [](const Complex& m) { return make_product(m, make_segment()); });
-  f.push_back(parametric_family(
+  f.push_back(operator_family(
       "product", "product:MODEL*MODEL",
       "Cartesian product of two closed models, e.g. product:polygon:5*polygon:8 (a duoprism) or "
       "product:sphere:1,8*polygon:6 (5D); the dimensions add",
-      [](const std::string& spec, std::string_view a) {
+      [](const std::string& spec, std::string_view a, const Catalogue& catalogue) {
         const auto star = product_split(a);
         if (star == std::string_view::npos || star == 0 || star + 1 == a.size())
           throw InputError("model spec '" + spec + "': expected product:MODEL*MODEL");
-        return make_product(load_model(std::string(a.substr(0, star))),
-                            load_model(std::string(a.substr(star + 1))));
+        return make_product(catalogue.load(std::string(a.substr(0, star))),
+                            catalogue.load(std::string(a.substr(star + 1))));
       }));
   add_operator("pyramid", "pyramid:MODEL",
                "pyramid over any closed model: base at last coordinate 0, apex at height 2 above "
@@ -602,41 +604,52 @@ std::vector<ModelFamily> default_families() {
                "tiger: (|(x,w)| - R1)^2 + (|(y,z)| - R2)^2 <= r^2 (non-convex), N = 3..128", 3,
                [](const std::vector<double>& r, int n) { return make_tiger(r[0], r[1], r[2], n); });
   f.push_back(
-      parametric_family("extrude", "extrude:FILE",
-                        "4D prism (height 2) over a closed polyhedron read from an OBJ, OFF, "
-                        "PLY or STL file",
-                        [](const std::string&, std::string_view a) {
-                          return make_prism(read_polyhedron(std::string(a)), 2.0);
-                        }));
-  f.push_back(
-      parametric_family("spin", "spin:FILE,STEPS",
-                        "4D solid of revolution of a closed polyhedron (OBJ/OFF/PLY/STL) lying "
-                        "in x >= 0, turned in the xw plane around the yz plane in STEPS steps",
-                        [](const std::string& spec, std::string_view a) {
-                          const auto [file, steps] = parse_file_steps(a, spec);
-                          return make_spin(read_polyhedron(file), steps);
-                        }));
-  f.push_back(
       parametric_family("wythoff", "wythoff:DIAGRAM",
                         "uniform polytope of a linear Coxeter diagram, e.g. x4o3o3o, edge 2",
                         [](const std::string&, std::string_view a) { return make_wythoff(a); }));
   return f;
 }
 
-std::vector<ModelFamily>& registry() {
-  static std::vector<ModelFamily> families = default_families();
-  return families;
+}  // namespace
+
+const Catalogue& core_catalogue() {
+  static const Catalogue catalogue(default_families());
+  return catalogue;
 }
 
-const ModelFamily* find_family(std::string_view spec) {
+Catalogue::Catalogue(std::vector<ModelFamily> families) {
+  for (ModelFamily& family : families) {
+    if (!family.matches || !family.make)
+      throw InputError("model family '" + family.usage + "' has no matches or make");
+    const auto same = std::find_if(families_.begin(), families_.end(),
+                                   [&](const ModelFamily& f) { return f.usage == family.usage; });
+    if (same != families_.end())
+      *same = std::move(family);
+    else
+      families_.push_back(std::move(family));
+  }
+}
+
+Catalogue Catalogue::extended(std::vector<ModelFamily> more) const {
+  std::vector<ModelFamily> all = families_;
+  all.insert(all.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
+  return Catalogue(std::move(all));
+}
+
+const ModelFamily* Catalogue::find(std::string_view spec) const {
   const std::string s = lower(spec);
   for (bool exact : {true, false})
-    for (const ModelFamily& f : registry())
+    for (const ModelFamily& f : families_)
       if (f.exact == exact && f.matches(s)) return &f;
   return nullptr;
 }
 
-}  // namespace
+std::vector<BuiltinInfo> Catalogue::list() const {
+  std::vector<BuiltinInfo> list;
+  for (const ModelFamily& f : families_) list.push_back({f.usage, f.description});
+  list.push_back({"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"});
+  return list;
+}
 
 std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::size_t count) {
   std::vector<int> out;
@@ -653,35 +666,25 @@ std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::s
   return out;
 }
 
-void register_model_family(ModelFamily family) {
-  if (!family.matches || !family.make) throw InputError("register_model_family: empty family");
-  auto& families = registry();
-  for (auto& f : families)
-    if (f.usage == family.usage) {
-      f = std::move(family);
-      return;
-    }
-  families.push_back(std::move(family));
+std::vector<BuiltinInfo> builtin_list(const Catalogue& catalogue) {
+  return catalogue.list();
 }
 
-std::vector<BuiltinInfo> builtin_list() {
-  std::vector<BuiltinInfo> list;
-  for (const ModelFamily& f : registry()) list.push_back({f.usage, f.description});
-  list.push_back({"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"});
-  return list;
+bool is_builtin_spec(std::string_view spec, const Catalogue& catalogue) {
+  return catalogue.find(spec) != nullptr;
 }
 
-bool is_builtin_spec(std::string_view spec) {
-  return find_family(spec) != nullptr;
-}
-
-std::optional<std::string> model_family(std::string_view spec) {
-  if (const ModelFamily* family = find_family(spec)) return family->usage;
+std::optional<std::string> model_family(std::string_view spec, const Catalogue& catalogue) {
+  if (const ModelFamily* family = catalogue.find(spec)) return family->usage;
   return std::nullopt;
 }
 
-Complex load_model(const std::string& spec) {
-  // Operators (prism:, dual:, product: ...) load their operands through load_model: bound the
+Complex load_model(const std::string& spec, const Catalogue& catalogue) {
+  return catalogue.load(spec);
+}
+
+Complex Catalogue::load(const std::string& spec) const {
+  // Operators (prism:, dual:, product: ...) load their operands through load: bound the
   // nesting, so that a spec of 20000 prism: heads is refused instead of overflowing the stack
   // (each level also holds a copy of the rest of the spec, so memory stays O(depth * length)).
   static thread_local int depth = 0;
@@ -692,13 +695,13 @@ Complex load_model(const std::string& spec) {
   if (depth > max_model_nesting)
     throw InputError("model spec '" + (spec.size() > 60 ? spec.substr(0, 60) + "..." : spec) +
                      "' nests operators more than " + std::to_string(max_model_nesting) + " deep");
-  if (const ModelFamily* family = find_family(spec)) return family->make(spec);
+  if (const ModelFamily* family = find(spec)) return family->make(spec, *this);
   std::error_code ec;
   if (std::filesystem::exists(spec, ec) || spec.find('/') != std::string::npos ||
       spec.find('.') != std::string::npos)
     return read_off_file(spec);
   std::vector<std::string> names;
-  for (const ModelFamily& f : registry()) names.insert(names.end(), f.names.begin(), f.names.end());
+  for (const ModelFamily& f : families_) names.insert(names.end(), f.names.begin(), f.names.end());
   // A head typed with its arguments ("prsim:tesseract") is compared as a head.
   const std::size_t colon = spec.find(':');
   const std::string guess =

@@ -250,7 +250,8 @@ std::string join(const std::vector<std::string>& words) {
 
 class SceneReader {
  public:
-  SceneReader(const Document& doc, std::string base) : doc_(doc), base_(std::move(base)) {}
+  SceneReader(const Document& doc, std::string base, const Catalogue& catalogue)
+      : doc_(doc), base_(std::move(base)), catalogue_(catalogue) {}
 
   Scene read() {
     const json& root = doc_.root;
@@ -342,13 +343,13 @@ class SceneReader {
     // a misspelt built-in stays an "unknown model" error.
     std::string resolved = spec;
     std::error_code ec;
-    if (!base_.empty() && !is_builtin_spec(spec) && fs::path(spec).is_relative() &&
+    if (!base_.empty() && !catalogue_.find(spec) && fs::path(spec).is_relative() &&
         (spec.find_first_of("/.") != std::string::npos || fs::exists(fs::path(base_) / spec, ec)))
       resolved = (fs::path(base_) / spec).lexically_normal().string();
     if (const auto it = cache_.find(resolved); it != cache_.end()) return it->second;
     std::shared_ptr<const Complex> model;
     try {
-      model = std::make_shared<const Complex>(load_model(resolved));
+      model = std::make_shared<const Complex>(catalogue_.load(resolved));
     } catch (const InputError& e) {
       // An unknown or malformed built-in spec is a mistake in the scene: report its line.
       fail(path, e.what());
@@ -469,24 +470,26 @@ class SceneReader {
 
   const Document& doc_;
   std::string base_;
+  const Catalogue& catalogue_;
   std::map<std::string, std::shared_ptr<const Complex>> cache_;
   std::string where_;  // "object i (model): ", prefixed to messages about an object
 };
 
 }  // namespace
 
-Scene read_scene(std::istream& in, const std::string& name, const std::string& base_directory) {
+Scene read_scene(std::istream& in, const std::string& name, const std::string& base_directory,
+                 const Catalogue& catalogue) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw ParseError(name, 0, "cannot read");
   const Document doc = parse_document(text.str(), name);
-  return SceneReader(doc, base_directory).read();
+  return SceneReader(doc, base_directory, catalogue).read();
 }
 
-Scene read_scene_file(const std::string& path) {
+Scene read_scene_file(const std::string& path, const Catalogue& catalogue) {
   const std::string text = read_input_file(path);
   const std::string dir = fs::path(path).parent_path().string();
-  return SceneReader(parse_document(text, path), dir.empty() ? "." : dir).read();
+  return SceneReader(parse_document(text, path), dir.empty() ? "." : dir, catalogue).read();
 }
 
 }  // namespace cw4d

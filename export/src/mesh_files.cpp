@@ -11,8 +11,8 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "cw4d/complex/atomic_file.hpp"
-#include "cw4d/complex/detail/mute_openmesh.hpp"
 #include "cw4d/complex/error.hpp"
+#include "mute_openmesh.hpp"
 
 namespace cw4d {
 

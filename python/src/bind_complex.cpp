@@ -12,6 +12,7 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/complex/wythoff.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 namespace cw4d::python {
 
@@ -307,7 +308,7 @@ void bind_complex(py::module_& m) {
       "load_model",
       [](const std::string& spec) {
         py::gil_scoped_release nogil;
-        return load_model(spec);
+        return load_model(spec, default_catalogue());
       },
       py::arg("spec"),
       "The model of a spec as the CLI takes it: a built-in ('tesseract', '120-cell', "
@@ -316,7 +317,8 @@ void bind_complex(py::module_& m) {
       "builtin_list",
       [] {
         std::vector<std::pair<std::string, std::string>> out;
-        for (const auto& b : builtin_list()) out.emplace_back(b.spec, b.description);
+        for (const auto& b : builtin_list(default_catalogue()))
+          out.emplace_back(b.spec, b.description);
         return out;
       },
       "Every built-in model spec with its description, as (spec, description) pairs.");

@@ -12,6 +12,7 @@
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "cw4d/section/triangulate.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 namespace cw4d::python {
 
@@ -434,7 +435,7 @@ void bind_section(py::module_& m) {
       "read_scene",
       [](const std::string& path) {
         py::gil_scoped_release nogil;
-        return read_scene_file(path);
+        return read_scene_file(path, default_catalogue());
       },
       py::arg("path"),
       "Reads a JSON scene file (model paths relative to its directory); ParseError names "
@@ -444,7 +445,7 @@ void bind_section(py::module_& m) {
       [](const std::string& text, const std::string& name, const std::string& base_directory) {
         std::istringstream in(text);
         py::gil_scoped_release nogil;
-        return read_scene(in, name, base_directory);
+        return read_scene(in, name, base_directory, default_catalogue());
       },
       py::arg("text"), py::arg("name") = "<string>", py::arg("base_directory") = "",
       "A scene from JSON text; `name` is the file name in error messages.");

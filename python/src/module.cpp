@@ -4,7 +4,6 @@
 #include <exception>
 
 #include "common.hpp"
-#include "cw4d/tetrahedralize/hull.hpp"
 
 namespace cw4d::python {
 
@@ -126,10 +125,6 @@ PYBIND11_MODULE(_cw4d, m) {
       raise(error_type, e.what());
     }
   });
-
-  // The hull-based model families (glome:, hull:, snub 24-cell, grand antiprism, ...), as the
-  // CLI registers them, so that load_model accepts every spec `cw4d list` prints.
-  cw4d::register_hull_models();
 
   bind_complex(m);
   bind_section(m);

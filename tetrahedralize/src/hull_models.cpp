@@ -246,11 +246,9 @@ Complex make_glome(double r, int n) {
   return convex_hull(to_matrix(points));
 }
 
-void register_hull_models() {
-  static bool registered = false;
-  if (registered) return;
-  registered = true;
-  register_model_family(parametric_family(
+std::vector<ModelFamily> hull_families() {
+  std::vector<ModelFamily> f;
+  f.push_back(parametric_family(
       "hull", "hull:FILE",
       "convex hull of the points in FILE (one point per line, 3 or 4 coordinates separated by "
       "spaces or commas, # comments)",
@@ -267,27 +265,26 @@ void register_hull_models() {
           throw InputError(file + ": no convex hull: " + reason);
         }
       }));
-  register_model_family(named_family({"snub cube", "snub-cube", "snic", "wythoff:s4s3s"},
-                                     "snub cube s4s3s: 32 triangles and 6 squares, edge 2",
-                                     make_snub_cube));
-  register_model_family(
-      named_family({"snub dodecahedron", "snub-dodecahedron", "snid", "wythoff:s5s3s"},
-                   "snub dodecahedron s5s3s: 80 triangles and 12 pentagons, "
-                   "edge 2",
-                   make_snub_dodecahedron));
-  register_model_family(named_family({"snub 24-cell", "snub-24-cell", "sadi", "wythoff:s3s4o3o"},
-                                     "snub 24-cell s3s4o3o: hull of the even permutations of "
-                                     "(0, +-1, +-phi, +-phi^2), edge 2",
-                                     make_snub_24_cell));
-  register_model_family(named_family({"grand antiprism", "gap"},
-                                     "grand antiprism: the 600-cell (circumradius 1) without two "
-                                     "completely orthogonal decagons",
-                                     make_grand_antiprism));
-  register_model_family(parametric_family(
+  f.push_back(named_family({"snub cube", "snub-cube", "snic", "wythoff:s4s3s"},
+                           "snub cube s4s3s: 32 triangles and 6 squares, edge 2", make_snub_cube));
+  f.push_back(named_family({"snub dodecahedron", "snub-dodecahedron", "snid", "wythoff:s5s3s"},
+                           "snub dodecahedron s5s3s: 80 triangles and 12 pentagons, "
+                           "edge 2",
+                           make_snub_dodecahedron));
+  f.push_back(named_family({"snub 24-cell", "snub-24-cell", "sadi", "wythoff:s3s4o3o"},
+                           "snub 24-cell s3s4o3o: hull of the even permutations of "
+                           "(0, +-1, +-phi, +-phi^2), edge 2",
+                           make_snub_24_cell));
+  f.push_back(named_family({"grand antiprism", "gap"},
+                           "grand antiprism: the 600-cell (circumradius 1) without two "
+                           "completely orthogonal decagons",
+                           make_grand_antiprism));
+  f.push_back(parametric_family(
       "glome", "glome:R,N",
       "convex polytope inscribed in the 3-sphere of radius R, Hopf-coordinate grid of "
       "resolution N = 1..24 (volume -> pi^2 R^4 / 2)",
       make_glome_spec));
+  return f;
 }
 
 }  // namespace cw4d

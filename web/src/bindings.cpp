@@ -91,17 +91,25 @@ std::array<float, 3> palette(std::uint32_t cell) {
 // The families that need CGAL (the tetrahedralize/ library), which the WebAssembly build does
 // not link: listed so that the catalogue shows them, marked as unavailable. The browser test
 // checks this list against the native `cw4d list`.
-const std::vector<BuiltinInfo>& cgal_families() {
-  static const std::vector<BuiltinInfo> list = {
-      {"hull:FILE", "convex hull of the points in FILE"},
-      {"snub cube", "snub cube s4s3s"},
-      {"snub dodecahedron", "snub dodecahedron s5s3s"},
-      {"snub 24-cell", "snub 24-cell s3s4o3o"},
-      {"grand antiprism", "grand antiprism"},
-      {"glome:R,N", "convex polytope inscribed in the 3-sphere"},
-  };
-  return list;
-}
+// The families of `cw4d list` that are not in core_catalogue(), i.e. not in this build.
+struct UnavailableFamily {
+  const char* spec;
+  const char* description;
+  const char* reason;
+};
+constexpr const char* kNoOpenMesh =
+    "reads OBJ/OFF/PLY/STL through OpenMesh, not in the WebAssembly build";
+constexpr const char* kNoCgal = "needs CGAL (convex hulls), not in the WebAssembly build";
+constexpr UnavailableFamily kUnavailable[] = {
+    {"extrude:FILE", "4D prism over a closed polyhedron read from a mesh file", kNoOpenMesh},
+    {"spin:FILE,STEPS", "4D solid of revolution of a closed polyhedron", kNoOpenMesh},
+    {"hull:FILE", "convex hull of the points in FILE", kNoCgal},
+    {"snub cube", "snub cube s4s3s", kNoCgal},
+    {"snub dodecahedron", "snub dodecahedron s5s3s", kNoCgal},
+    {"snub 24-cell", "snub 24-cell s3s4o3o", kNoCgal},
+    {"grand antiprism", "grand antiprism", kNoCgal},
+    {"glome:R,N", "convex polytope inscribed in the 3-sphere", kNoCgal},
+};
 
 std::vector<double> to_doubles(const val& array) {
   return emscripten::vecFromJSArray<double>(array);
@@ -157,7 +165,7 @@ class WebModel {
   /// Loads a catalogue spec; returns "" or the error line.
   std::string load_spec(const std::string& spec) {
     try {
-      return adopt(load_model(spec), spec);
+      return adopt(load_model(spec, core_catalogue()), spec);
     } catch (const std::exception& e) {
       return e.what();
     }
@@ -543,28 +551,23 @@ class WebModel {
   std::string name_;
 };
 
-/// The catalogue: [{spec, description, available, reason}], the built-in families first, then
-/// the CGAL ones this build does not include.
+/// The catalogue: [{spec, description, available, reason}], the families of core_catalogue()
+/// (what load_model accepts here) first, then those of `cw4d list` this build does not include.
 val catalogue() {
   val out = val::array();
-  for (const BuiltinInfo& b : builtin_list()) {
+  for (const BuiltinInfo& b : builtin_list(core_catalogue())) {
     val e = val::object();
     e.set("spec", b.spec);
     e.set("description", b.description);
-    // extrude: and spin: read their polyhedron through OpenMesh (mesh_import_unavailable.cpp).
-    const bool mesh_file = b.spec.starts_with("extrude:") || b.spec.starts_with("spin:");
-    e.set("available", !mesh_file);
-    if (mesh_file)
-      e.set("reason", std::string("reads OBJ/OFF/PLY/STL through OpenMesh, not in the "
-                                  "WebAssembly build"));
+    e.set("available", true);
     out.call<void>("push", e);
   }
-  for (const BuiltinInfo& b : cgal_families()) {
+  for (const UnavailableFamily& b : kUnavailable) {
     val e = val::object();
-    e.set("spec", b.spec);
-    e.set("description", b.description);
+    e.set("spec", std::string(b.spec));
+    e.set("description", std::string(b.description));
     e.set("available", false);
-    e.set("reason", std::string("needs CGAL (convex hulls), not in the WebAssembly build"));
+    e.set("reason", std::string(b.reason));
     out.call<void>("push", e);
   }
   return out;

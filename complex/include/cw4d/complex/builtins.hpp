@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cw4d/complex/catalogue.hpp"
 #include "cw4d/complex/complex.hpp"
 
 namespace cw4d {
@@ -28,51 +29,19 @@ Complex make_segment();
 /// p,q-duoprism: product of a regular p-gon and a regular q-gon.
 Complex make_duoprism(int p, int q);
 
-/// One entry of the list of built-in model specs.
-struct BuiltinInfo {
-  std::string spec;  ///< e.g. "duoprism:P,Q"
-  std::string description;
-};
-/// Every registered model family, then the file entry (what `cw4d list` prints).
-std::vector<BuiltinInfo> builtin_list();
-
-/// A family of model specs: a name with aliases ("tesseract", "8-cell") or "HEAD:ARGS".
-/// Libraries outside complex/ (e.g. CGAL hulls in tetrahedralize/) add theirs with
-/// register_model_family, so that load_model and the CLI accept them.
-struct ModelFamily {
-  std::string usage;  ///< as listed, e.g. "duoprism:P,Q"; also the family's identity
-  std::string description;
-  /// Whether a lower-cased spec belongs to this family.
-  std::function<bool(std::string_view lowered)> matches;
-  /// Builds the model of a spec (as the user wrote it). \throw InputError for bad arguments.
-  std::function<Complex(const std::string& spec)> make;
-  /// Exact names win over patterns: "wythoff:s3s4o3o" (the snub 24-cell) is tried before the
-  /// "wythoff:DIAGRAM" family.
-  bool exact = false;
-  /// The names a user may type (aliases, or "head:"), for "did you mean" suggestions.
-  std::vector<std::string> names;
-};
-/// A family of one name with aliases (lower case); `names.front()` is its usage.
-ModelFamily named_family(std::vector<std::string> names, std::string description,
-                         std::function<Complex()> make);
-/// A family of specs "HEAD:ARGS" (head in lower case); make gets the spec and the ARGS part.
-ModelFamily parametric_family(
-    std::string head, std::string usage, std::string description,
-    std::function<Complex(const std::string& spec, std::string_view args)> make);
-
-/// Adds a family (or replaces the one with the same usage). Families are tried in order of
-/// registration, built-ins first. Not thread-safe: register at start-up.
-void register_model_family(ModelFamily family);
-
 /// "1,2,3" -> integers, exactly `count` of them. \throw InputError naming the spec.
 std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::size_t count);
 
+/// Every family of the catalogue, then the file entry (what `cw4d list` prints).
+std::vector<BuiltinInfo> builtin_list(const Catalogue& catalogue = core_catalogue());
+
 /// The usage string of the family a spec belongs to (e.g. "duoprism:P,Q" for "duoprism:5,7"),
 /// or nothing for file names.
-std::optional<std::string> model_family(std::string_view spec);
+std::optional<std::string> model_family(std::string_view spec,
+                                        const Catalogue& catalogue = core_catalogue());
 
 /// True when spec names a built-in ("5-cell", "cube:5", ...), false when it should be a path.
-bool is_builtin_spec(std::string_view spec);
+bool is_builtin_spec(std::string_view spec, const Catalogue& catalogue = core_catalogue());
 
 /// The candidate closest to `word` (ignoring case, '-', '_' and spaces; at most a third of the
 /// letters edited), or "" when none is close. For "did you mean" messages.
@@ -81,10 +50,12 @@ std::string closest_name(std::string_view word, const std::vector<std::string>& 
 /// How deep operators may nest in a spec (prism:dual:prism:... counts 3).
 inline constexpr int max_model_nesting = 32;
 
-/// Builds the model named by a spec: a built-in, or a path to a .4off / .off file. Operators
-/// nest at most max_model_nesting deep.
+/// Builds the model named by a spec: a family of the catalogue, or a path to a .4off / .off
+/// file. Operators nest at most max_model_nesting deep. The default, core_catalogue(), knows
+/// the families of complex/; pass default_catalogue() (cw4d/tetrahedralize/catalogue.hpp) for
+/// every family of `cw4d list` (hulls, snubs, glome:, extrude:, spin:).
 /// \throw InputError for an unknown or malformed built-in spec (or one nested too deep);
 ///        ParseError / IoError for files.
-Complex load_model(const std::string& spec);
+Complex load_model(const std::string& spec, const Catalogue& catalogue = core_catalogue());
 
 }  // namespace cw4d

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "cw4d/complex/catalogue.hpp"
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/complex/transform.hpp"
 
@@ -65,15 +66,18 @@ struct Scene {
 inline constexpr std::size_t max_scene_nesting = 64;
 
 /// Reads a scene from JSON text. `name` is used in error messages ("name:line: ..."); relative
-/// model paths are resolved against `base_directory` (the working directory when empty).
+/// model paths are resolved against `base_directory` (the working directory when empty). Model
+/// specs are looked up in `catalogue` (default_catalogue() in cw4d/tetrahedralize/catalogue.hpp
+/// for every family of `cw4d list`).
 /// \throw ParseError naming name:line for malformed JSON, unknown keys, wrong types, bad colors,
 ///        cell ids out of range, opacity outside [0, 1], zero scales, rotation planes or vectors
 ///        that do not fit the model's dimension, models of different dimensions, an unknown
 ///        built-in model spec, or a scene without objects.
 /// \throw ParseError / IoError from reading a model file (naming that file).
-Scene read_scene(std::istream& in, const std::string& name, const std::string& base_directory = {});
+Scene read_scene(std::istream& in, const std::string& name, const std::string& base_directory = {},
+                 const Catalogue& catalogue = core_catalogue());
 /// Reads a scene file; model paths are relative to its directory.
 /// \throw as read_scene; ParseError with line 0 when the file cannot be opened.
-Scene read_scene_file(const std::string& path);
+Scene read_scene_file(const std::string& path, const Catalogue& catalogue = core_catalogue());
 
 }  // namespace cw4d

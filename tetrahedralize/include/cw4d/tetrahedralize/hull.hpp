@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <vector>
 
+#include "cw4d/complex/catalogue.hpp"
 #include "cw4d/complex/complex.hpp"
 
 namespace cw4d {
@@ -56,10 +58,9 @@ Complex make_grand_antiprism();
 /// \throw InputError for r <= 0 (or not finite) or n out of range.
 Complex make_glome(double r, int n);
 
-/// Registers the families "hull:FILE", "snub cube" (snub-cube, snic), "snub dodecahedron"
-/// (snub-dodecahedron, snid), "snub 24-cell" (snub-24-cell, sadi), "grand antiprism"
-/// (gap) and "glome:R,N" with register_model_family, so load_model and the CLI accept them.
-/// Idempotent; call at start-up (not thread-safe, like register_model_family).
-void register_hull_models();
+/// The hull-based model families, for a Catalogue (default_catalogue() has them): "hull:FILE",
+/// "snub cube" (snub-cube, snic), "snub dodecahedron" (snub-dodecahedron, snid), "snub 24-cell"
+/// (snub-24-cell, sadi), "grand antiprism" (gap) and "glome:R,N".
+std::vector<ModelFamily> hull_families();
 
 }  // namespace cw4d

@@ -1,4 +1,4 @@
-#include "cw4d/complex/mesh_import.hpp"
+#include "cw4d/export/mesh_import.hpp"
 
 #include <Eigen/Geometry>
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -16,11 +16,13 @@
 #include <vector>
 
 #include "cw4d/complex/builder.hpp"
-#include "cw4d/complex/detail/mute_openmesh.hpp"
+#include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/input_file.hpp"
+#include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "mute_openmesh.hpp"
 
 namespace cw4d {
 
@@ -125,7 +127,35 @@ void check_announced_counts(const std::string& path, std::uintmax_t size) {
                          " faces but the file has only " + std::to_string(size) + " bytes");
 }
 
+// "FILE,STEPS" of spin: the path is everything before the last comma.
+std::pair<std::string, int> parse_file_steps(std::string_view args, std::string_view spec) {
+  const std::size_t comma = args.rfind(',');
+  if (comma == std::string_view::npos || comma == 0)
+    throw InputError("model spec '" + std::string(spec) + "' expects FILE,STEPS");
+  return {std::string(args.substr(0, comma)), parse_ints(args.substr(comma + 1), spec, 1)[0]};
+}
+
 }  // namespace
+
+std::vector<ModelFamily> mesh_file_families() {
+  std::vector<ModelFamily> f;
+  f.push_back(
+      parametric_family("extrude", "extrude:FILE",
+                        "4D prism (height 2) over a closed polyhedron read from an OBJ, OFF, "
+                        "PLY or STL file",
+                        [](const std::string&, std::string_view a) {
+                          return make_prism(read_polyhedron(std::string(a)), 2.0);
+                        }));
+  f.push_back(
+      parametric_family("spin", "spin:FILE,STEPS",
+                        "4D solid of revolution of a closed polyhedron (OBJ/OFF/PLY/STL) lying "
+                        "in x >= 0, turned in the xw plane around the yz plane in STEPS steps",
+                        [](const std::string& spec, std::string_view a) {
+                          const auto [file, steps] = parse_file_steps(a, spec);
+                          return make_spin(read_polyhedron(file), steps);
+                        }));
+  return f;
+}
 
 Complex read_polyhedron(const std::string& path) {
   // Only regular files of bounded size reach OpenMesh (a FIFO would block it forever).

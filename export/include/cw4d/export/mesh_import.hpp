@@ -1,8 +1,11 @@
 #pragma once
 // Closed 3D polyhedra from ordinary mesh files (OBJ, OFF, PLY, STL) through OpenMesh's readers,
-// the input of extrude:FILE and spin:FILE,STEPS. OpenMesh stays inside mesh_import.cpp.
+// the input of the model families extrude:FILE and spin:FILE,STEPS. OpenMesh stays inside
+// export/'s sources: this header needs only complex/.
 #include <string>
+#include <vector>
 
+#include "cw4d/complex/catalogue.hpp"
 #include "cw4d/complex/complex.hpp"
 
 namespace cw4d {
@@ -19,5 +22,10 @@ namespace cw4d {
 ///        read it, or the faces do not bound a closed, valid polyhedron (open mesh, three faces on
 ///        one edge, ...).
 Complex read_polyhedron(const std::string& path);
+
+/// The model families of mesh files, for a Catalogue (default_catalogue() has them):
+/// "extrude:FILE" (the 4D prism of height 2 over read_polyhedron(FILE)) and "spin:FILE,STEPS"
+/// (make_spin of it).
+std::vector<ModelFamily> mesh_file_families();
 
 }  // namespace cw4d
