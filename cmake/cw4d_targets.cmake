@@ -7,6 +7,14 @@ if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
   target_compile_options(cw4d_settings INTERFACE -Wall -Wextra -Wpedantic
     $<$<BOOL:${CW4D_WERROR}>:-Werror>)
 endif()
+# GCC 12 reports a false -Wrestrict inside libstdc++'s std::string wherever an append of a short
+# literal is inlined ("text" + std::string&&, char_traits::copy; GCC bug 105329, fixed in 13): it
+# strikes whichever file the optimiser happens to inline it in, so it is off for GCC 12 as a whole
+# rather than file by file.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_GREATER_EQUAL 12
+   AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  target_compile_options(cw4d_settings INTERFACE -Wno-restrict)
+endif()
 
 include(GNUInstallDirs)
 
