@@ -900,6 +900,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const double* s = s_.data();
   const double* edge_length = m.edge_length_.data();
   const double weld = m.weld_;
+  const double near_parallel = near_parallel_;
   std::uint64_t* edge_img = edge_img_.data();
   FaceImage* face_img = face_img_.data();
   // Byte marks of the faces and cells to visit, all zero between slices (cleared by the visits,
@@ -947,7 +948,10 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
       const double t = s[a] / (s[a] - s[b]);
       const double len = edge_length[e];
-      if (t * len <= weld || (1.0 - t) * len <= weld) {  // near an end: welding, general
+      // As crossing(): nearly parallel to the plane (section_general places it) or near an end
+      // (welding): the general path.
+      if (std::abs(s[a] - s[b]) < near_parallel * len || t * len <= weld ||
+          (1.0 - t) * len <= weld) {
         reason_ = FallbackReason::Weld;
         return stop(0);
       }
