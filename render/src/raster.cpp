@@ -177,6 +177,25 @@ bool setup(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, 
   return true;
 }
 
+// One light's Blinn-Phong term, in 3D or in 4D (Vec: glm::vec3 or glm::vec4): n the unit normal,
+// v the direction to the viewer, l the (unnormalised) direction to the light, intensity its
+// fall-off. Zero for a light behind the surface.
+template <class Vec>
+glm::vec3 blinn_phong(const DrawState& d, const glm::vec4& base, const Vec& n, const Vec& v, Vec l,
+                      float intensity, const glm::vec3& color) {
+  const float len = glm::length(l);
+  if (!(len > 0.0f)) return glm::vec3(0.0f);
+  l /= len;
+  const float diffuse = glm::dot(n, l);
+  if (diffuse <= 0.0f) return glm::vec3(0.0f);
+  const Vec h = glm::normalize(l + v);
+  const float nh = glm::dot(n, h);
+  const Lighting& lit = d.lighting;
+  const float spec =
+      nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
+  return intensity * color * (glm::vec3(base) * diffuse + glm::vec3(spec));
+}
+
 // The same Blinn-Phong in 4D: position and viewer lifted into the hyperplane, N the 4D normal.
 glm::vec4 shade4(const DrawState& d, const Attr& a, const glm::vec4& base, glm::vec4 normal4) {
   const Lighting& lit = d.lighting;
@@ -196,16 +215,7 @@ glm::vec4 shade4(const DrawState& d, const Attr& a, const glm::vec4& base, glm::
       const float q = light.reference / r;
       intensity = q * q * q;
     }
-    const float len = glm::length(l);
-    if (!(len > 0.0f)) continue;
-    l /= len;
-    const float diffuse = glm::dot(n, l);
-    if (diffuse <= 0.0f) continue;
-    const glm::vec4 h = glm::normalize(l + v);
-    const float nh = glm::dot(n, h);
-    const float spec =
-        nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
-    c += intensity * light.color * (glm::vec3(base) * diffuse + glm::vec3(spec));
+    c += blinn_phong(d, base, n, v, l, intensity, light.color);
   }
   return glm::vec4(c, base.a);
 }
@@ -228,16 +238,7 @@ glm::vec4 shade(const DrawState& d, const Attr& a, const ScreenTriangle& t) {
       const float d2 = glm::dot(l, l);
       intensity = 1.0f / (1.0f + light.attenuation * d2);
     }
-    const float len = glm::length(l);
-    if (!(len > 0.0f)) continue;
-    l /= len;
-    const float diffuse = glm::dot(n, l);
-    if (diffuse <= 0.0f) continue;
-    const glm::vec3 h = glm::normalize(l + v);
-    const float nh = glm::dot(n, h);
-    const float spec =
-        nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
-    c += intensity * light.color * (glm::vec3(base) * diffuse + glm::vec3(spec));
+    c += blinn_phong(d, base, n, v, l, intensity, light.color);
   }
   return glm::vec4(c, base.a);
 }
