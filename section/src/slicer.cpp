@@ -780,13 +780,24 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   out.facet_normals.clear();
 }
 
+namespace {
+
+// A crossing the fast paths leave to the general one: on an edge nearly parallel to the plane
+// (section_general places it on the facets' hyperplanes) or within the weld distance of an end.
+// The one rule for crossing() and kernel_slice, so both fall back alike.
+inline bool needs_general(double sa, double sb, double t, double len, double near_parallel,
+                          double weld) {
+  return std::abs(sa - sb) < near_parallel * len || t * len <= weld || (1.0 - t) * len <= weld;
+}
+
+}  // namespace
+
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
   const double len = m.edge_length_[e];
   *t_out = t;
-  if (std::abs(s_[a] - s_[b]) < near_parallel_ * len) return false;  // (section_general places it)
-  return !(t * len <= m.weld_ || (1.0 - t) * len <= m.weld_);  // near an end: welding, general
+  return !needs_general(s_[a], s_[b], t, len, near_parallel_, m.weld_);
 }
 
 bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
@@ -948,10 +959,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
       const double t = s[a] / (s[a] - s[b]);
       const double len = edge_length[e];
-      // As crossing(): nearly parallel to the plane (section_general places it) or near an end
-      // (welding): the general path.
-      if (std::abs(s[a] - s[b]) < near_parallel * len || t * len <= weld ||
-          (1.0 - t) * len <= weld) {
+      if (needs_general(s[a], s[b], t, len, near_parallel, weld)) {  // as crossing()
         reason_ = FallbackReason::Weld;
         return stop(0);
       }
