@@ -35,6 +35,7 @@
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/complex/wythoff.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -621,6 +622,58 @@ TEST_CASE("orientation_work counts what orienting walks, and bounds it up front"
       CHECK(r.code == usage);
       check_one_printable_error_line(r);
       CHECK(r.err.find("too large") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("wythoff: the size is known from the group before anything is built",
+          "[hostile][limits][wythoff]") {
+  // The oracle: published f-vectors (vertices, edges, faces, cells, ...) of uniform polytopes,
+  // e.g. H. S. M. Coxeter, "Regular Polytopes" (1973), table I, and N. W. Johnson, "Geometries
+  // and Transformations" (2018), for the polychora; a permutohedron of order 6 for x3x3x3x3x.
+  const std::vector<std::pair<std::string, std::vector<double>>> known = {
+      {"x5o2x", {10, 15, 7}},                     // pentagonal prism
+      {"o5x3x", {60, 90, 32}},                    // truncated icosahedron
+      {"x5x3x", {120, 180, 62}},                  // great rhombicosidodecahedron
+      {"x4o3o3o", {16, 32, 24, 8}},               // tesseract
+      {"x5o3o3o", {600, 1200, 720, 120}},         // 120-cell
+      {"o3x3o5o", {720, 3600, 3600, 720}},        // rectified 600-cell
+      {"x5x3o3o", {2400, 4800, 3120, 720}},       // truncated 120-cell
+      {"x3x3x3x", {120, 240, 150, 30}},           // omnitruncated 5-cell
+      {"x4x3x3x", {384, 768, 464, 80}},           // omnitruncated tesseract
+      {"x3x4x3x", {1152, 2304, 1392, 240}},       // omnitruncated 24-cell
+      {"x5x3x3x", {14400, 28800, 17040, 2640}},   // omnitruncated 120-cell
+      {"x5/2o5o3o", {120, 1200, 720, 120}},       // small stellated 120-cell {5/2,5,3}
+      {"x3x3x3x3x", {720, 1800, 1560, 540, 62}},  // omnitruncated 5-simplex
+  };
+  for (const auto& [diagram, f] : known) {
+    INFO(diagram);
+    const auto size = cw4d::wythoff_size(cw4d::parse_coxeter_diagram(diagram));
+    REQUIRE(size);
+    CHECK(size->f == f);
+    // The same polytope built: its counts, and the work build_complex measured on it.
+    const cw4d::Complex c = cw4d::make_wythoff(diagram);
+    for (int k = 0; k < c.ambient_dim(); ++k) CHECK(static_cast<double>(c.count(k)) == f[k]);
+    CHECK(size->orientation_work == Approx(cw4d::orientation_work(c)).epsilon(1e-12));
+  }
+  // Beyond the limits: refused by the estimate, with the CLI's exit 1 and one line. The
+  // permutohedron of order 8 (x3x3x3x3x3x3x) has 8! vertices, far below the vertex limit, but
+  // its facets exceed the orientation budget; the omnitruncated 10-orthoplex has 2^10 10!.
+  const auto big = cw4d::wythoff_size(cw4d::parse_coxeter_diagram("x3x3x3x3x3x3x"));
+  REQUIRE(big);
+  CHECK(big->f[0] == 40320);
+  CHECK(big->f[6] == 254);  // 2^8 - 2 facets
+  CHECK(big->orientation_work > cw4d::max_orientation_work);
+  TempDir dir;
+  for (const auto& [spec, says] : std::vector<std::pair<std::string, std::string>>{
+           {"wythoff:x3x3x3x3x3x3x", "too large"},
+           {"wythoff:x4x3x3x3x3x3x3x3x3x", "more than 2000000 vertices"},
+           {"wythoff:x5x3x3x2x3x3x3x3x3x", "more than 2000000 vertices"}}) {
+    DYNAMIC_SECTION(spec) {
+      const Result r = run_guarded(dir, {"info", spec});
+      CHECK(r.code == usage);
+      check_one_printable_error_line(r);
+      CHECK(r.err.find(says) != std::string::npos);
     }
   }
 }

@@ -214,3 +214,41 @@ TEST_CASE("self_intersects finds faces crossing beyond the vertices they share",
   CHECK_FALSE(oracle_self_intersects(book));
   CHECK_FALSE(self_intersects(book));
 }
+
+// Two non-convex faces in the planes z = 0 and y = 0 sharing a run of collinear vertices along
+// the x axis, x = 3, ..., 2 + n (ids 0 .. n-1), and the ends of the chord from x = 0 to x = 2
+// (ids n, n + 1: beyond the 8 smallest shared ids once n >= 8). With `cross`, each face is a
+// strip on the negative side of the axis plus a triangle over the chord on the positive side,
+// so the chord's midpoint lies inside both and they pass through each other (like two slotted
+// cards); without, each face is a rectangle on the positive side with that triangle cut away,
+// and they meet only in their common boundary.
+Complex collinear_pair(int n, bool cross) {
+  std::ostringstream text;
+  const int x_end = 2 + n, far = cross ? -1 : 2;
+  const int count = n + 2 + 6;
+  text << "OFF\n" << count << " 2 0\n";
+  for (int i = 1; i <= n; ++i) text << 2 + i << " 0 0\n";  // ids 0 .. n-1: the run
+  const int u = n, w = n + 1;                              // x = 0 and x = 2
+  text << "0 0 0\n2 0 0\n";
+  const int fa = n + 2, ga = n + 5;  // apex, far corner at x_end, far corner at x = 0
+  text << "1 1 0\n" << x_end << ' ' << far << " 0\n0 " << far << " 0\n";
+  text << "1 0 1\n" << x_end << " 0 " << far << "\n0 0 " << far << '\n';
+  auto face = [&](int apex, int corner_end, int corner_start) {
+    text << 5 + n << ' ' << u << ' ' << apex << ' ' << w;
+    for (int i = 0; i < n; ++i) text << ' ' << i;
+    text << ' ' << corner_end << ' ' << corner_start << '\n';
+  };
+  face(fa, fa + 1, fa + 2);
+  face(ga, ga + 1, ga + 2);
+  std::istringstream in(text.str());
+  return read_off(in, "collinear");
+}
+
+TEST_CASE("self_intersects sees every vertex two faces share, however many",
+          "[self_intersection][hand]") {
+  for (int n = 0; n <= 12; ++n) {
+    INFO(n + 2 << " shared vertices");
+    CHECK(self_intersects(collinear_pair(n, true)));
+    CHECK_FALSE(self_intersects(collinear_pair(n, false)));
+  }
+}

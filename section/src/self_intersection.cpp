@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <vector>
 
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/section.hpp"
@@ -68,19 +69,19 @@ bool edge_pierces(const Faces& F, std::uint32_t f, std::uint32_t g, double eps,
   return false;
 }
 
-// The vertices faces f and g share (up to 8, from their sorted id lists) into `out`; their count.
-int shared_vertices(const Faces& F, std::uint32_t f, std::uint32_t g, std::uint32_t* out) {
-  int k = 0;
+// The vertices faces f and g share (all of them, from their sorted id lists) into `out`.
+void shared_vertices(const Faces& F, std::uint32_t f, std::uint32_t g,
+                     std::vector<std::uint32_t>& out) {
+  out.clear();
   std::uint32_t i = F.off[f], ie = F.off[f + 1], j = F.off[g], je = F.off[g + 1];
-  while (i < ie && j < je && k < 8) {
+  while (i < ie && j < je) {
     if (F.ids[i] == F.ids[j])
-      out[k++] = F.ids[i], ++i, ++j;
+      out.push_back(F.ids[i]), ++i, ++j;
     else if (F.ids[i] < F.ids[j])
       ++i;
     else
       ++j;
   }
-  return k;
 }
 
 // Whether x lies inside face f farther than eps from each of its edges.
@@ -282,8 +283,10 @@ bool self_intersects(const Complex& surface) {
              glo.x() > fhi.x() + eps || glo.y() > fhi.y() + eps || glo.z() > fhi.z() + eps);
   };
   auto test = [&](std::uint32_t f, std::uint32_t q) {
-    std::uint32_t shared[8];
-    const int k = shared_vertices(F, f, q, shared);
+    thread_local std::vector<std::uint32_t> common;
+    shared_vertices(F, f, q, common);
+    const std::uint32_t* shared = common.data();
+    const int k = static_cast<int>(common.size());
     // Two convex faces with a common edge meet only in it (the line of their planes' meeting).
     if (k == 2 && F.convex[f] && F.convex[q] && on_cycle(F, f, shared[0], shared[1]) &&
         on_cycle(F, q, shared[0], shared[1]))

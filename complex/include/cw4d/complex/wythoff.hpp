@@ -59,6 +59,20 @@ CoxeterDiagram parse_coxeter_diagram(std::string_view text);
 Complex make_wythoff(const CoxeterDiagram& diagram);
 Complex make_wythoff(std::string_view diagram);
 
+/// The size of make_wythoff(diagram) computed from the orders of the diagram's subgroups,
+/// without building anything: make_wythoff checks it first and refuses, in microseconds, what
+/// build_complex would refuse after building (orientation_work above max_orientation_work) or
+/// what has more than 2,000,000 vertices.
+struct WythoffSize {
+  std::vector<double> f;          ///< f[k]: the number of k-faces, 0 <= k < rank
+  double orientation_work = 0.0;  ///< orientation_work() of the built complex
+};
+/// Exact for non-degenerate diagrams; for a fractional diagram whose elements coincide the
+/// counts are upper bounds. nullopt when a component of the diagram has no ring, or when a
+/// fractional diagram's group is not recognised (make_wythoff then builds and measures).
+/// \throw InputError when the diagram is malformed or its group is infinite.
+std::optional<WythoffSize> wythoff_size(const CoxeterDiagram& diagram);
+
 struct WythoffOptions {
   /// Accept a fractional diagram whose base point lies on more mirrors than the unringed
   /// nodes' (its vertices, and then some edges, coincide) and build the figure with the
