@@ -628,16 +628,16 @@ void check_planar_convex(const Section& s, double scale) {
 
 }  // namespace
 
-TEST_CASE("regression: planes tilted 1e-6 to 1e-15 rad from cells and vertex layers",
+TEST_CASE("regression: planes tilted 1e-6 to 1e-16 rad from cells and vertex layers",
           "[degenerate][tilt]") {
   // Where a plane is nearly parallel to a cell, rounding of the cell's vertices moves the
   // crossings on its edges by (rounding / tilt): a plane tilted 1e-12 rad from a cell of the
   // 120-cell used to give a non-convex section 0.07% short of the oracle.
   std::mt19937 rng(1412);
-  // (Not 1e-13: there a cell of the 120-cell has some vertices inside the ON band and some
-  // outside, and the sides of those near the trace are decided by their rounding, which can
-  // disagree with the facet hyperplanes: 3 of these planes still give a polygon off its plane.)
-  const double tilts[] = {1e-6, 1e-8, 1e-10, 1e-11, 1e-12, 1e-14, 1e-15};
+  // At 1e-13 a cell of the 120-cell has vertices within (rounding / tilt) of the plane's trace:
+  // their sides are decided in the facet hyperplanes, as the crossings are placed, not by their
+  // rounded positions (which gave 3 of these planes a polygon off its plane).
+  const double tilts[] = {1e-6, 1e-8, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15, 1e-16};
   int planes = 0, snapped = 0;
   for (const std::string spec : {"tesseract", "24-cell", "600-cell", "120-cell"}) {
     const Complex c = load_model(spec);

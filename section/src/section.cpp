@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -127,100 +128,189 @@ void settle_on_band(const Complex& model, const std::vector<double>& s, std::vec
 // facet then satisfies that facet's one plane equation, so the facet's cut is planar, and the
 // section is the cut of the polytope of those facet hyperplanes. The equations are formed with
 // the normal split as N = sigma n + Delta (Delta exact for N close to +-n), so a cell nearly
-// parallel to the plane keeps its tilt to full relative precision. A crossing whose placement
-// would leave its edge keeps t.
+// parallel to the plane keeps its tilt to full relative precision.
+//
+// The sides of the ends of those edges are decided in the same polytope: a vertex's value is
+// the signed distance from the plane of the point where the hyperplanes of its facets meet
+// (solved in the same frame, from the same equations), not n.x - d of its rounded position.
+// Rounding of the positions puts the plane's trace in a nearly parallel cell only to within
+// (rounding / tilt) (1e-3 of the cell at 1e-13 rad): a vertex that close to the trace could
+// otherwise be on one side by its own value and on the other in the facet hyperplanes, and the
+// crossing the facets place on one of its edges would fall beyond the edge's end.
 struct PlaneFrame {
   Eigen::VectorXd unit, origin;  // unit normal, a point of the plane
   double offset = 0.0;
   Eigen::MatrixXd basis;  // n x (n-1)
 };
 
-void place_near_parallel_crossings(const Complex& model, const Eigen::VectorXd& nm, double dm,
-                                   const std::vector<double>& s, Section& sec,
-                                   Eigen::MatrixXd& positions, const Hyperplane* world,
-                                   std::vector<std::pair<std::uint32_t, Eigen::VectorXd>>* coords) {
-  const int n = model.ambient_dim();
-  const int fr = n - 1;  // facet rank
-  if (!model.has_facet_normals() || model.top_rank() < fr || fr < 2) return;
-  const auto& p = model.positions();
-  const double len_n = nm.norm();
-  std::vector<std::uint32_t> todo;
-  for (std::uint32_t v = 0; v < sec.vertex_source.size(); ++v) {
-    const VertexSource& src = sec.vertex_source[v];
-    if (src.rank != 1) continue;
-    const auto [a, b] = model.edge(src.element);
-    const double len = (p.col(b) - p.col(a)).norm();
-    if (std::abs(s[a] - s[b]) < tol::near_parallel_edge * len_n * len) todo.push_back(v);
+class FacetPlanes {
+ public:
+  // The edges nearly parallel to the plane (by the vertices' own values s), and for the model
+  // not moved (world != nullptr) the section's own frame, so that z below are the section
+  // coordinates themselves: the point o + B z of the frame is the point of the section, and an
+  // error in z is an error of the same size in the section.
+  FacetPlanes(const Complex& model, const Eigen::VectorXd& nm, double dm,
+              const std::vector<double>& s, const Hyperplane* world)
+      : model_(model), n_(model.ambient_dim()), len_n_(nm.norm()) {
+    const int fr = n_ - 1;
+    if (!model.has_facet_normals() || model.top_rank() < fr || fr < 2 || model.count(1) == 0)
+      return;
+    const auto& p = model.positions();
+    parallel_.assign(model.count(1), 0);
+    bool any = false;
+    for (std::uint32_t e = 0; e < model.count(1); ++e) {
+      const auto [a, b] = model.edge(e);
+      const double len = (p.col(b) - p.col(a)).norm();
+      if (std::abs(s[a] - s[b]) < tol::near_parallel_edge * len_n_ * len) parallel_[e] = any = 1;
+    }
+    if (!any) {
+      parallel_.clear();
+      return;
+    }
+    // Facets containing each edge: edges -> faces -> ... -> facets.
+    up_.resize(model.count(1));
+    for (std::uint32_t e = 0; e < up_.size(); ++e) up_[e] = {e};
+    for (int r = 2; r <= fr; ++r) {
+      const Incidence& table = model.boundary(r);
+      std::vector<std::vector<std::uint32_t>> parents(model.count(r - 1));
+      for (std::uint32_t x = 0; x < table.size(); ++x)
+        for (auto id : table.ids(x)) parents[id].push_back(x);
+      for (auto& list : up_) {
+        std::vector<std::uint32_t> next;
+        for (auto id : list) next.insert(next.end(), parents[id].begin(), parents[id].end());
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        list = std::move(next);
+      }
+    }
+    frame_.unit = world ? world->normal : Eigen::VectorXd(nm / len_n_);
+    frame_.offset = world ? world->offset : dm / len_n_;
+    frame_.origin = frame_.offset * frame_.unit;
+    frame_.basis = hyperplane_basis(frame_.unit);
   }
-  if (todo.empty()) return;
-  // Facets containing each edge: edges -> faces -> ... -> facets.
-  std::vector<std::vector<std::uint32_t>> up(model.count(1));
-  for (std::uint32_t e = 0; e < up.size(); ++e) up[e] = {e};
-  for (int r = 2; r <= fr; ++r) {
-    const Incidence& table = model.boundary(r);
-    std::vector<std::vector<std::uint32_t>> parents(model.count(r - 1));
-    for (std::uint32_t x = 0; x < table.size(); ++x)
-      for (auto id : table.ids(x)) parents[id].push_back(x);
-    for (auto& list : up) {
-      std::vector<std::uint32_t> next;
-      for (auto id : list) next.insert(next.end(), parents[id].begin(), parents[id].end());
-      std::sort(next.begin(), next.end());
-      next.erase(std::unique(next.begin(), next.end()), next.end());
-      list = std::move(next);
+
+  bool active() const { return !parallel_.empty(); }
+  bool parallel(std::uint32_t e) const { return !parallel_.empty() && parallel_[e]; }
+  const PlaneFrame& frame() const { return frame_; }
+
+  // The ends of the nearly parallel edges: s replaced by the value of the point where their
+  // facets' hyperplanes meet (times |n|, as s), where those pin a point.
+  void settle_values(std::vector<double>& s) {
+    if (!active()) return;
+    const std::size_t nv = model_.count(0);
+    std::vector<std::vector<std::uint32_t>> facets(nv);
+    std::vector<char> wanted(nv, 0);
+    for (std::uint32_t e = 0; e < model_.count(1); ++e) {
+      const auto [a, b] = model_.edge(e);
+      if (parallel_[e]) wanted[a] = wanted[b] = 1;
+    }
+    for (std::uint32_t e = 0; e < model_.count(1); ++e) {
+      const auto [a, b] = model_.edge(e);
+      for (auto v : {a, b})
+        if (wanted[v]) facets[v].insert(facets[v].end(), up_[e].begin(), up_[e].end());
+    }
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (!wanted[v]) continue;
+      auto& list = facets[v];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      // Unknowns (z, sigma): the point o + B z + sigma n; a facet's equation in them is
+      // (B^T N) . z + (N . n) sigma = level - N . o.
+      Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n_, n_);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+      Eigen::VectorXd row(n_);
+      for (const std::uint32_t f : list) {
+        const Row& r = row_of(f);
+        row.head(n_ - 1) = r.u;
+        row[n_ - 1] = r.c;
+        m += row * row.transpose();
+        rhs += r.rhs * row;
+      }
+      const auto y = solve(m, rhs);
+      if (y) s[v] = (*y)[n_ - 1] * len_n_;
     }
   }
-  // The section's own frame when the model is not moved (world != nullptr), so that z below
-  // are the section coordinates themselves: the point o + B z of the frame is the point of the
-  // section, and an error in z is an error of the same size in the section.
-  PlaneFrame frame;
-  frame.unit = world ? world->normal : Eigen::VectorXd(nm / len_n);
-  frame.offset = world ? world->offset : dm / len_n;
-  frame.origin = frame.offset * frame.unit;
-  frame.basis = hyperplane_basis(frame.unit);
-  std::unordered_map<std::uint32_t, std::pair<Eigen::VectorXd, double>> rows;  // unit row, rhs
-  auto row_of = [&](std::uint32_t f) -> const std::pair<Eigen::VectorXd, double>& {
-    auto [it, fresh] = rows.try_emplace(f);
+
+  // Section vertices v on nearly parallel edges: positions (model space) moved onto the facets'
+  // hyperplanes, t updated, and (frame the section's own) their section coordinates recorded.
+  void place(Section& sec, Eigen::MatrixXd& positions, double weld,
+             std::vector<std::pair<std::uint32_t, Eigen::VectorXd>>* coords) {
+    if (!active()) return;
+    const auto& p = model_.positions();
+    for (std::uint32_t v = 0; v < sec.vertex_source.size(); ++v) {
+      VertexSource& src = sec.vertex_source[v];
+      if (src.rank != 1 || !parallel_[src.element]) continue;
+      Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n_ - 1, n_ - 1);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_ - 1);
+      for (const std::uint32_t f : up_[src.element]) {
+        const Row& r = row_of(f);
+        const double w = r.u.norm();
+        if (!(w > 0.0)) continue;
+        m += r.u * r.u.transpose() / (w * w);
+        rhs += (r.rhs / (w * w)) * r.u;
+      }
+      // The facets' traces must pin the point: a well-conditioned system, else t stays.
+      const auto z = solve(m, rhs);
+      if (!z) continue;
+      const Eigen::VectorXd x = frame_.origin + frame_.basis * *z;
+      const auto [a, b] = model_.edge(src.element);
+      const Eigen::VectorXd ab = p.col(b) - p.col(a);
+      const double len2 = ab.squaredNorm();
+      const double t = (x - p.col(a)).dot(ab) / len2;
+      // On the edge, up to the weld distance beyond its ends (the sides were decided in the
+      // same hyperplanes; an end within that distance of the plane may be on either side).
+      const double slack = weld / std::sqrt(len2);
+      if (!(t > -slack && t < 1.0 + slack)) continue;
+      positions.col(v) = x;
+      src.t = std::clamp(t, 0.0, 1.0);
+      if (coords) coords->push_back({v, *z});
+    }
+  }
+
+ private:
+  struct Row {
+    Eigen::VectorXd u;  // B^T N
+    double c = 0.0;     // N . n
+    double rhs = 0.0;   // level - N . o
+  };
+
+  const Row& row_of(std::uint32_t f) {
+    auto [it, fresh] = rows_.try_emplace(f);
     if (!fresh) return it->second;
-    const Eigen::VectorXd nf = model.facet_normals().col(f);
-    const auto verts = model.vertices_of(fr, f);
+    const auto& p = model_.positions();
+    const Eigen::VectorXd nf = model_.facet_normals().col(f);
+    const auto verts = model_.vertices_of(n_ - 1, f);
     double level = 0.0;
     for (auto v : verts) level += nf.dot(p.col(v));
     level /= static_cast<double>(verts.size());
     // B^T nf to full relative precision (each entry a compensated dot product): for a facet
     // nearly parallel to the plane it is tiny, and its direction decides the trace.
-    Eigen::VectorXd u(n - 1);
-    for (int j = 0; j < n - 1; ++j) u[j] = plane_value(frame.basis.col(j), 0.0, nf.data());
+    Row& r = it->second;
+    r.u.resize(n_ - 1);
+    for (int j = 0; j < n_ - 1; ++j) r.u[j] = plane_value(frame_.basis.col(j), 0.0, nf.data());
+    r.c = plane_value(frame_.unit, 0.0, nf.data());
     // nf . (origin + B z) = level  <=>  u . z = level - nf . origin
-    const double rhs = -plane_value(nf, level, frame.origin.data());
-    const double w = u.norm();
-    it->second = w > 0.0 ? std::make_pair(Eigen::VectorXd(u / w), rhs / w)
-                         : std::make_pair(Eigen::VectorXd(Eigen::VectorXd::Zero(n - 1)), 0.0);
-    return it->second;
-  };
-  for (const std::uint32_t v : todo) {
-    VertexSource& src = sec.vertex_source[v];
-    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n - 1, n - 1);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n - 1);
-    for (const std::uint32_t f : up[src.element]) {
-      const auto& [u, r] = row_of(f);
-      m += u * u.transpose();
-      rhs += r * u;
-    }
-    // The facets' traces must pin the point: a well-conditioned system, else t stays.
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
-    if (eig.eigenvalues().minCoeff() < 1e-6) continue;
-    const Eigen::VectorXd z = eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                                    (eig.eigenvectors().transpose() * rhs));
-    const Eigen::VectorXd x = frame.origin + frame.basis * z;
-    const auto [a, b] = model.edge(src.element);
-    const Eigen::VectorXd ab = p.col(b) - p.col(a);
-    const double t = (x - p.col(a)).dot(ab) / ab.squaredNorm();
-    if (!(t > 0.0 && t < 1.0)) continue;
-    positions.col(v) = x;
-    src.t = t;
-    if (coords) coords->push_back({v, z});
+    r.rhs = -plane_value(nf, level, frame_.origin.data());
+    return r;
   }
-}
+
+  // m y = rhs for m symmetric positive semi-definite; nullopt when m is nearly singular.
+  static std::optional<Eigen::VectorXd> solve(const Eigen::MatrixXd& m,
+                                              const Eigen::VectorXd& rhs) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
+    if (eig.eigenvalues().minCoeff() < 1e-6) return std::nullopt;
+    return Eigen::VectorXd(eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                                 (eig.eigenvectors().transpose() * rhs)));
+  }
+
+  const Complex& model_;
+  int n_;
+  double len_n_;
+  std::vector<char> parallel_;
+  std::vector<std::vector<std::uint32_t>> up_;
+  PlaneFrame frame_;
+  std::unordered_map<std::uint32_t, Row> rows_;
+};
 
 struct CutResult {
   Section section;
@@ -601,6 +691,9 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
+  const bool unmoved = xf.linear().isIdentity(0.0) && xf.translation().isZero(0.0);
+  FacetPlanes facets(model, nm, dm, s, unmoved ? &plane : nullptr);
+  facets.settle_values(s);
   std::vector<Side> side(nv);
   bool any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
@@ -637,11 +730,9 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
       cut.model_positions.resize(n, 0);
     }
   }
-  const bool unmoved = xf.linear().isIdentity(0.0) && xf.translation().isZero(0.0);
   std::vector<std::pair<std::uint32_t, Eigen::VectorXd>> placed;
   if (cut.model_positions.cols() > 0)
-    place_near_parallel_crossings(model, nm, dm, s, cut.section, cut.model_positions,
-                                  unmoved ? &plane : nullptr, unmoved ? &placed : nullptr);
+    facets.place(cut.section, cut.model_positions, weld, unmoved ? &placed : nullptr);
   Section sec = std::move(cut.section);
   const Eigen::MatrixXd& model_pos = cut.model_positions;
   sec.frame = HyperplaneFrame(plane);
