@@ -678,6 +678,30 @@ TEST_CASE("wythoff: the size is known from the group before anything is built",
   }
 }
 
+TEST_CASE("volumes beyond a double's range and coinciding vertices are said so",
+          "[hostile][cli][messages]") {
+  TempDir dir;
+  const std::string faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  // A tetrahedron of edge ~1e308: valid (decided on rescaled positions), volume ~1e924.
+  dir.write("huge.off", "OFF\n4 4 0\n-1e308 0 0\n1e308 0 0\n0 1e308 0\n0 0 1e308\n" + faces);
+  // The same scaled by 1e-308: volume ~1e-924.
+  dir.write("tiny.off", "OFF\n4 4 0\n-1e-300 0 0\n1e-300 0 0\n0 1e-300 0\n0 0 1e-300\n" + faces);
+  dir.write("same.off", "OFF\n4 4 0\n1 2 3\n1 2 3\n1 2 3\n1 2 3\n" + faces);
+  const Result huge = run_guarded(dir, {"info", "huge.off"});
+  CHECK(huge.code == 0);
+  CHECK(huge.out.find("valid      yes") != std::string::npos);
+  CHECK(huge.out.find("volume     beyond the range of a double") != std::string::npos);
+  CHECK(huge.out.find("nan") == std::string::npos);
+  const Result tiny = run_guarded(dir, {"info", "tiny.off"});
+  CHECK(tiny.code == 0);
+  CHECK(tiny.out.find("volume     below the range of a double") != std::string::npos);
+  const Result same = run_guarded(dir, {"convert", "same.off", "-o", "out.off"});
+  CHECK(same.code == invalid_complex);
+  check_one_printable_error_line(same);
+  CHECK(same.err.find("all its vertices coincide") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out.off"));
+}
+
 TEST_CASE("temporaries are removed when SIGTERM or SIGINT ends the process",
           "[hostile][output][signals]") {
   TempDir dir;

@@ -1,5 +1,6 @@
 // cw4d list, info and convert: the commands about models themselves.
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -54,8 +55,21 @@ void run_info(const InfoSettings& s) {
     }
   }
   // The enclosed volume only means something for a valid closed complex.
+  // Measured on exactly rescaled positions, then scaled back: a volume beyond the range of a
+  // double (coordinates near 1e308 in R^3, 1e77 in R^4, or 1e-80 in R^4) is said to be out of
+  // range, not printed as nan, inf or 0.
   std::optional<double> volume;
-  if (report.ok()) volume = signed_volume(model);
+  const char* out_of_range = nullptr;
+  if (report.ok()) {
+    const double scale = position_scale(model);
+    const double rescaled = signed_volume(model, scale);
+    volume = std::ldexp(rescaled, -dim * std::ilogb(scale));
+    if (!std::isfinite(*volume))
+      out_of_range = "beyond the range of a double (the coordinates are too large)";
+    else if (*volume == 0.0 && rescaled != 0.0)
+      out_of_range = "below the range of a double (the coordinates are too small)";
+    if (out_of_range) volume.reset();
+  }
   std::optional<std::pair<double, double>> range;
   Eigen::VectorXd unit;
   if (!normal.empty()) {
@@ -96,7 +110,11 @@ void run_info(const InfoSettings& s) {
             << "f-vector   (" << counts << ")  [" << names << "]\n"
             << "valid      " << (report.ok() ? "yes" : "no: " + report.summary()) << '\n'
             << "bounds     min (" << join(lo, brief) << ")  max (" << join(hi, brief) << ")\n"
-            << "volume     " << (volume ? brief(*volume) : "n/a (invalid complex)") << '\n';
+            << "volume     "
+            << (volume         ? brief(*volume)
+                : out_of_range ? out_of_range
+                               : "n/a (invalid complex)")
+            << '\n';
   if (range) {
     std::vector<double> u(unit.data(), unit.data() + unit.size());
     std::cout << "offsets    d from " << brief(range->first) << " to " << brief(range->second)

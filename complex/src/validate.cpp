@@ -193,10 +193,19 @@ struct Checker {
       if (std::abs(vol) <= 1e-12 * magnitude) vol = 0.0;
       if (!(vol > 0.0))
         add(fr, 0,
-            vol == 0.0 ? std::string("encloses no volume (all of it lies in a hyperplane)")
+            vol == 0.0 ? std::string(all_vertices_coincide()
+                                         ? "encloses no volume (all its vertices coincide)"
+                                         : "encloses no volume (all of it lies in a hyperplane)")
                        : "facets are not oriented outward (signed volume " +
                              std::to_string(vol / std::pow(scale, n)) + ")");
     }
+  }
+
+  bool all_vertices_coincide() const {
+    const auto& p = c.positions();
+    for (Eigen::Index v = 1; v < p.cols(); ++v)
+      if (p.col(v) != p.col(0)) return false;
+    return true;
   }
 
   void check_planarity() {
