@@ -755,16 +755,21 @@ TEST_CASE("temporaries are removed when SIGTERM or SIGINT ends the process",
 TEST_CASE("a sweep into a folder appears whole or not at all", "[hostile][cli][output]") {
   TempDir dir;
   SECTION("success: the folder holds every layer and nothing else") {
-    const Result r = run_guarded(dir, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from",
-                                       "-0.5", "--to", "0.5", "--layers", "3", "-o", "out/layers"});
-    REQUIRE(r.code == 0);
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir / "out/layers"))
-      names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    CHECK(names == std::vector<std::string>{"layer_000.obj", "layer_001.obj", "layer_002.obj"});
-    for (const auto& e : fs::directory_iterator(dir / "out"))
-      CHECK(e.path().filename() == "layers");  // no staging folder left
+    // (with or without trailing separators: the same folder)
+    for (const std::string target : {"out/layers", "out/layers/", "out/layers//"}) {
+      INFO(target);
+      fs::remove_all(dir / "out");
+      const Result r = run_guarded(dir, {"sweep", "tesseract", "--normal", "0,0,0,1", "--from",
+                                         "-0.5", "--to", "0.5", "--layers", "3", "-o", target});
+      REQUIRE(r.code == 0);
+      std::vector<std::string> names;
+      for (const auto& e : fs::directory_iterator(dir / "out/layers"))
+        names.push_back(e.path().filename().string());
+      std::sort(names.begin(), names.end());
+      CHECK(names == std::vector<std::string>{"layer_000.obj", "layer_001.obj", "layer_002.obj"});
+      for (const auto& e : fs::directory_iterator(dir / "out"))
+        CHECK(e.path().filename() == "layers");  // no staging folder left
+    }
   }
   SECTION("failure: an unwritable layer leaves no folder and no staging") {
     // Layer 1 cannot be written (a directory is in its place): nothing may remain.

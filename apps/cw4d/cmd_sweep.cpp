@@ -87,7 +87,11 @@ void run_sweep(SweepSettings& s) {
     out.format = choose_format(s.output, s.format);
   } else if (ext.empty()) {
     out.format = choose_format("", s.format.empty() ? "obj" : s.format);
-    layer.directory = s.output;
+    // "layers/" names the folder "layers" (its staging folder and the final rename need the
+    // folder's own name, which a trailing separator hides).
+    layer.directory = fs::path(s.output);
+    while (!layer.directory.has_filename() && layer.directory.has_relative_path())
+      layer.directory = layer.directory.parent_path();
     layer.stem = "layer";
     layer.extension = format_extension(out.format);
   } else {
