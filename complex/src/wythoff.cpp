@@ -410,6 +410,11 @@ std::optional<WythoffSize> estimate(const CoxeterDiagram& d, const Eigen::Matrix
       while (j + 1 < n && (mask >> (j + 1) & 1u) && m(j, j + 1) > 2) ++j;
       const unsigned run = ((2u << j) - 1) & ~((1u << i) - 1);
       auto it = run_order.find(run);
+      if (j == i + 1) {
+        out *= 2.0 * m(i, j);  // I_2(p), also for a mark p/q (the same mirrors)
+        i = j + 1;
+        continue;
+      }
       if (it == run_order.end()) {
         const auto o = group_order(roots, nodes_of(run), cap);
         if (!o) return std::nullopt;
