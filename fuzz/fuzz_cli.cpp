@@ -4,9 +4,13 @@
 // table other than 6 (an internal error is a bug). Every run happens in one scratch directory
 // that holds a few small inputs (a.4off: the 5-cell, b.off: a cube, s.json: a scene, p.txt:
 // the tesseract's vertices) and is emptied and refilled before each run; arguments containing
-// '/' are not run, so every path stays inside it. Sizes are bounded: at most 32 arguments and
-// 512 bytes, and no integer in an argument above 64 (exponents and decimals excepted), so that
-// what the size limits let through finishes well within the fuzzer's timeout.
+// '/' are not run, so a path names at most the parent of that directory (".."), which is the
+// scratch folder's own root, emptied too (and removed at exit). Sizes are bounded: at most 32
+// arguments and 512 bytes, and no integer in an argument above 8 (exponents, decimals and the
+// names "N-cell" excepted), and `render` draws at most 160x120 pixels per picture (a --size is
+// added where the input gives none): what cw4d's own limits let through takes seconds in a release
+// build but ~10x that instrumented (a contact sheet of 64 layers of 800x600 pixels, info cube:8),
+// so the fuzzer keeps to the inputs that finish well within its timeout.
 #include <unistd.h>
 
 #include <cstddef>
@@ -28,7 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch;
+fs::path home, root, scratch;         // scratch = root/w, the working directory
 std::string five_cell_off, cube_off;  // written by the library's own nOFF writer
 
 std::string off_text(const char* spec) {
@@ -44,6 +48,8 @@ class NullBuffer : public std::streambuf {
 };
 
 void refill() {
+  for (const auto& entry : fs::directory_iterator(root))
+    if (entry.path() != scratch) fs::remove_all(entry.path());
   for (const auto& entry : fs::directory_iterator(scratch)) fs::remove_all(entry.path());
   std::ofstream(scratch / "a.4off") << five_cell_off;
   std::ofstream(scratch / "b.off") << cube_off;
@@ -56,7 +62,8 @@ void refill() {
       << (i & 8 ? 1 : -1) << '\n';
 }
 
-// Integers above 64 (a digit run not after '.', 'e' or 'E'), '/' anywhere.
+// Integers above 8 (a digit run not after '.', 'e' or 'E', nor a polychoron's "N-cell"), '/'
+// anywhere.
 bool acceptable(const std::string& arg) {
   if (arg.find('/') != std::string::npos) return false;
   for (std::size_t i = 0; i < arg.size();) {
@@ -70,7 +77,9 @@ bool acceptable(const std::string& arg) {
     while (k > 0 && (arg[k - 1] == '+' || arg[k - 1] == '-')) --k;
     const bool fraction_or_exponent =
         k > 0 && (arg[k - 1] == '.' || arg[k - 1] == 'e' || arg[k - 1] == 'E');
-    if (!fraction_or_exponent && (j - i > 2 || std::stoi(arg.substr(i, j - i)) > 64)) return false;
+    const bool cell_name = arg.compare(j, 5, "-cell") == 0;  // 24-cell, 120-cell, ...
+    if (!fraction_or_exponent && !cell_name && (j - i > 2 || std::stoi(arg.substr(i, j - i)) > 8))
+      return false;
     if (fraction_or_exponent && j - i > 17) return false;
     i = j;
   }
@@ -82,10 +91,19 @@ bool acceptable(const std::string& arg) {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   char name[] = "/tmp/cw4d-fuzz-cli-XXXXXX";
   if (!::mkdtemp(name)) std::abort();
-  scratch = name;
+  root = name;
+  scratch = root / "w";
+  fs::create_directory(scratch);
+  std::atexit([] {
+    std::error_code ignored;
+    fs::current_path(home, ignored);
+    fs::remove_all(root, ignored);
+  });
   five_cell_off = off_text("5-cell");
   cube_off = off_text("cube:3");
-  fs::current_path(scratch);
+  // The working directory is the scratch folder only while a command runs: libFuzzer reads
+  // and writes its corpus folders, given relative to where it was started, in between.
+  home = fs::current_path();
   // The command's own output is not the fuzzer's: stdout goes nowhere, std::cerr too (libFuzzer
   // reports on the C stderr, which stays).
   static NullBuffer null;
@@ -112,11 +130,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!acceptable(a)) return 0;
   // bench measures for seconds by design; it is not an input handler.
   if (args.size() > 1 && args[1] == "bench") return 0;
+  // A picture is at most 160x120 pixels unless the input chose a --size (of integers <= 8).
+  if (args.size() > 1 && args[1] == "render") {
+    bool sized = false;
+    for (const std::string& a : args) sized = sized || a.rfind("--size", 0) == 0;
+    if (!sized) {
+      args.push_back("--size");
+      args.push_back("160x120");
+    }
+  }
   refill();
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  fs::current_path(scratch);
   const int code = cw4d::cli::run(static_cast<int>(args.size()), argv.data());
+  fs::current_path(home);
   if (code < 0 || code > 5) {
     std::fprintf(stderr, "fuzz_cli: exit code %d\n", code);
     std::abort();
