@@ -231,7 +231,7 @@ class Slicer {
     int sign;
     bool used;
   };
-  struct Placement;  // the plane in model space and the output maps (slicer.cpp)
+  struct Placement;  // the plane in model space and the output maps (src/slicer_detail.hpp)
   bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                   SliceBuffers& out);
   void prepare(const SliceModel& m);

@@ -1,0 +1,243 @@
+#include "cw4d/section/slicer.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <unordered_map>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/fork_join.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/tolerances.hpp"
+#include "general.hpp"
+#include "slicer_detail.hpp"
+
+namespace cw4d {
+
+// --- the R^4 kernel -----------------------------------------------------------------------
+int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                         bool marked_edges) {
+  // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
+  // polygon per cell whose section edges form one loop: the buffers the generic gathering
+  // writes for such a slice (tested element for element), in the same order, written once.
+  // Each face and cell reads its boundary's images straight from one stamped word per element.
+  start_buffers(m, pl, out);
+  constexpr std::uint64_t kGen = 0xffffffff00000000ull;
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  const std::uint64_t g = std::uint64_t{gen_} << 32;
+  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Rank& F = m.ranks_[2];
+  const SliceModel::Rank& C = m.ranks_[3];
+  const std::uint32_t* edge_ends = E.ids.data();
+  const std::int8_t* side = side_.data();
+  const double* s = s_.data();
+  const double* edge_length = m.edge_length_.data();
+  const double weld = m.weld_;
+  const double near_parallel = near_parallel_;
+  std::uint64_t* edge_img = edge_img_.data();
+  FaceImage* face_img = face_img_.data();
+  // Byte marks of the faces and cells to visit, all zero between slices (cleared by the visits,
+  // or wholly when the kernel stops half way).
+  if (face_mark_.size() < F.offsets.size() - 1) face_mark_.resize(F.offsets.size() - 1, 0);
+  if (cell_mark_.size() < C.offsets.size() - 1) cell_mark_.resize(C.offsets.size() - 1, 0);
+  std::uint8_t* face_marks = face_mark_.data();
+  std::uint8_t* cell_marks = cell_mark_.data();
+  auto stop = [&](int result) {
+    std::fill(face_mark_.begin(), face_mark_.end(), 0);
+    std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
+    return result;
+  };
+  const std::uint32_t* edge_up = m.up_offsets_[1].data();
+  const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
+  const std::uint32_t* face_up = m.up_offsets_[2].data();
+  const std::uint32_t* face_up_ids = m.up_ids_[2].data();
+  // Rank 1: the crossings, in id order cluster by cluster.
+  std::uint32_t cut_faces_bound = 0;
+  for (auto c : touched_) {
+    // The crossing edges first: listed without a branch (the sides are unpredictable), or
+    // those a sweep marked.
+    const std::uint32_t e0 = m.begin_[0][c], e1 = m.begin_[0][c + 1];
+    if (crossing_ids_.size() < e1 - e0) crossing_ids_.resize(e1 - e0);
+    std::uint32_t* list = crossing_ids_.data();
+    std::uint32_t count = 0;
+    if (marked_edges) {
+      visit_marked(mark_[1], e0, e1, [&](std::uint32_t e) {
+        list[count++] = e;
+        return true;
+      });
+    } else {
+      for (std::uint32_t e = e0; e < e1; ++e) {
+        list[count] = e;
+        count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
+      }
+    }
+    const std::uint32_t v0 = static_cast<std::uint32_t>(out.vertex_source.size());
+    out.vertex_source.resize(v0 + count);
+    section_edge_.resize(v0 + count);
+    VertexSource* vs = out.vertex_source.data();
+    std::uint32_t* vertex_edge = section_edge_.data();
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::uint32_t e = list[i];
+      const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
+      const double t = s[a] / (s[a] - s[b]);
+      const double len = edge_length[e];
+      if (needs_general(s[a], s[b], t, len, near_parallel, weld)) {  // as crossing()
+        reason_ = FallbackReason::Weld;
+        return stop(0);
+      }
+      const std::uint32_t v = v0 + i;
+      vs[v] = {E.model_id.empty() ? e : E.model_id[e], 1, t};
+      vertex_edge[v] = e;
+      // The crossing's coefficient in the edge's cut: +1 when the tail is below.
+      edge_img[e] = g | v | (side[a] < 0 ? 0u : kFlip);
+      for (std::uint32_t i = edge_up[e]; i < edge_up[e + 1]; ++i) face_marks[edge_up_ids[i]] = 1;
+      cut_faces_bound += edge_up[e + 1] - edge_up[e];
+    }
+  }
+  if (out.vertex_source.empty()) {
+    clear_to_empty(out, m.dim_ - 1);
+    return 1;
+  }
+  // Rank 2: a face with two crossings of opposite coefficients gives the section edge from the
+  // one with -1 to the one with +1.
+  Incidence::Storage edges = out.boundary[0].storage();
+  edges.ids.resize(2 * std::size_t{cut_faces_bound});
+  std::uint32_t* edge_row = edges.ids.data();
+  std::uint32_t nse = 0, cut_cells_bound = 0;
+  {
+    const std::uint32_t* off = F.offsets.data();
+    const std::uint32_t* ids = F.ids.data();
+    const std::int8_t* signs = F.signs.data();
+    std::vector<std::uint32_t>& src_store = out.source[1];
+    src_store.resize(cut_faces_bound);
+    std::uint32_t* src = src_store.data();
+    auto face = [&](std::uint32_t x) -> bool {
+      std::uint32_t v[2];
+      int coef[2];
+      int cnt = 0;
+      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
+        const std::uint64_t img = edge_img[ids[i]];
+        if ((img & kGen) != g) continue;
+        if (cnt == 2) return false;
+        const std::uint32_t low = static_cast<std::uint32_t>(img);
+        v[cnt] = low & kIndex;
+        coef[cnt] = (low & kFlip) ? signs[i] : -signs[i];
+        ++cnt;
+      }
+      if (cnt != 2 || v[0] == v[1] || coef[0] != -coef[1]) return false;
+      const bool first_is_tail = coef[0] < 0;
+      edge_row[2 * nse] = first_is_tail ? v[0] : v[1];
+      edge_row[2 * nse + 1] = first_is_tail ? v[1] : v[0];
+      face_img[x] = {gen_, nse, edge_row[2 * nse], edge_row[2 * nse + 1]};
+      src[nse] = F.model_id.empty() ? x : F.model_id[x];
+      ++nse;
+      for (std::uint32_t i = face_up[x]; i < face_up[x + 1]; ++i) cell_marks[face_up_ids[i]] = 1;
+      cut_cells_bound += face_up[x + 1] - face_up[x];
+      return true;
+    };
+    for (auto c : touched_)
+      if (!visit_marked_bytes(face_marks, m.begin_[1][c], m.begin_[1][c + 1], face))
+        return stop(-1);
+    src_store.resize(nse);
+  }
+  edges.ids.resize(2 * std::size_t{nse});
+  edges.signs.resize(2 * std::size_t{nse});
+  edges.offsets.resize(std::size_t{nse} + 1);
+  for (std::uint32_t i = 0; i <= nse; ++i) edges.offsets[i] = 2 * i;
+  for (std::uint32_t i = 0; i < nse; ++i) edges.signs[2 * i] = -1, edges.signs[2 * i + 1] = 1;
+  // Rank 3 (the facets): the steps of a cell's section edges, one leaving each section vertex
+  // (stamped per cell), followed from the smallest tail; one loop through every step is the
+  // polygon the generic gathering chains (loops start at the smallest tail, steps follow
+  // heads). A pinch, an open chain or several loops: the generic gathering.
+  const std::size_t nsv = out.vertex_source.size();
+  if (loop_step_.size() < nsv) loop_step_.resize(nsv, LoopStep{0, 0, 0});
+  LoopStep* step = loop_step_.data();
+  Incidence::Storage polys = out.boundary[1].storage();
+  polys.ids.resize(cut_cells_bound);
+  polys.signs.resize(cut_cells_bound);
+  std::uint32_t* poly_ids = polys.ids.data();
+  std::int8_t* poly_signs = polys.signs.data();
+  std::uint32_t entries = 0;
+  const bool above = m.top_ > 3;
+  const bool chains_above = above && !m.single_solid_;
+  {
+    const std::uint32_t* off = C.offsets.data();
+    const std::uint32_t* ids = C.ids.data();
+    const std::int8_t* signs = C.signs.data();
+    std::vector<std::uint32_t>& src_store = out.source[2];
+    src_store.resize(cut_cells_bound);
+    facet_internal_.resize(cut_cells_bound);
+    polys.offsets.resize(std::size_t{cut_cells_bound} + 1);
+    std::uint32_t* src = src_store.data();
+    std::uint32_t* facet = facet_internal_.data();
+    std::uint32_t* poly_off = polys.offsets.data();
+    std::uint32_t npoly = 0;
+    auto cell = [&](std::uint32_t x) -> bool {
+      if (++stamp_ == 0) {  // wrapped: forget every stamp
+        for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
+        stamp_ = 1;
+      }
+      const std::uint32_t st = stamp_;
+      std::uint32_t lo = 0xffffffffu, ns = 0;
+      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
+        const FaceImage img = face_img[ids[i]];
+        if (img.gen != gen_) continue;
+        const std::uint32_t se = img.edge;
+        const bool forward = signs[i] < 0;  // the step's sign, -signs[i], is +1
+        const std::uint32_t tail = forward ? img.tail : img.head;
+        const std::uint32_t head = forward ? img.head : img.tail;
+        if (step[tail].stamp == st) return false;  // a pinch (or a face listed twice)
+        step[tail] = {st, head, forward ? se : se | kFlip};
+        lo = std::min(lo, tail);
+        ++ns;
+      }
+      if (ns < 3) return false;
+      std::uint32_t cur = lo;
+      for (std::uint32_t k = 0;;) {
+        const LoopStep sp = step[cur];
+        if (sp.stamp != st) return false;  // the chain does not close
+        poly_ids[entries] = sp.edge & kIndex;
+        poly_signs[entries] = (sp.edge & kFlip) ? -1 : 1;
+        ++entries;
+        ++k;
+        cur = sp.head;
+        if (cur == lo) {
+          if (k != ns) return false;  // several loops
+          break;
+        }
+        if (k == ns) return false;
+      }
+      const std::uint32_t poly = npoly++;
+      poly_off[npoly] = entries;
+      src[poly] = C.model_id.empty() ? x : C.model_id[x];
+      facet[poly] = x;
+      if (above) {
+        if (chains_above) {
+          images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
+          terms_[3].push_back({poly, 1});
+        }
+        mark_parents(m, 3, x);
+      }
+      return true;
+    };
+    for (auto c : touched_)
+      if (!visit_marked_bytes(cell_marks, m.begin_[2][c], m.begin_[2][c + 1], cell))
+        return stop(-1);
+    src_store.resize(npoly);
+    facet_internal_.resize(npoly);
+    polys.offsets.resize(std::size_t{npoly} + 1);
+  }
+  polys.ids.resize(entries);
+  polys.signs.resize(entries);
+  kernel_count_ += nse + out.source[2].size();
+  return cut_upper(m, pl, out, 4) ? 1 : 0;  // (the rank-4 marks are the generic path's bits)
+}
+
+}  // namespace cw4d
