@@ -22,16 +22,55 @@
 namespace cw4d {
 
 // --- the R^4 kernel -----------------------------------------------------------------------
+
+namespace {
+
+// Calls f(x, count) for every nonzero byte count = counts[x] of [b, e), in increasing order,
+// zeroing those bytes (eight at a time); stops (returning false) when f does.
+template <class F>
+inline bool visit_counts(std::uint8_t* counts, std::uint32_t b, std::uint32_t e, F&& f) {
+  std::uint32_t x = b;
+  for (; x < e && (x & 7u); ++x)
+    if (const std::uint32_t c = counts[x]) {
+      counts[x] = 0;
+      if (!f(x, c)) return false;
+    }
+  for (; x + 8 <= e; x += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, counts + x, 8);
+    if (!w) continue;
+    std::memset(counts + x, 0, 8);
+    while (w) {
+      const int bit = __builtin_ctzll(w) & ~7;
+      const std::uint32_t c = static_cast<std::uint32_t>(w >> bit) & 0xffu;
+      w &= ~(std::uint64_t{0xff} << bit);
+      if (!f(x + static_cast<std::uint32_t>(bit >> 3), c)) return false;
+    }
+  }
+  for (; x < e; ++x)
+    if (const std::uint32_t c = counts[x]) {
+      counts[x] = 0;
+      if (!f(x, c)) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
 int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                          bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
-  // Each face and cell reads its boundary's images straight from one stamped word per element.
+  // Nothing is gathered by reading boundaries: each crossing edge hands its section vertex to
+  // the faces above it (coface lists carrying the edge's sign in the face), each cut face its
+  // section edge, as the step it makes, to the cells above it; a face or a cell then reads only
+  // what it was handed, from one place. The per-element counts double as the marks of the
+  // faces and cells to visit (zero between slices: cleared by the visits, or wholly when the
+  // kernel stops half way).
+  if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
   start_buffers(m, pl, out);
-  constexpr std::uint64_t kGen = 0xffffffff00000000ull;
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
-  const std::uint64_t g = std::uint64_t{gen_} << 32;
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
@@ -41,14 +80,15 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const double* edge_length = m.edge_length_.data();
   const double weld = m.weld_;
   const double near_parallel = near_parallel_;
-  std::uint64_t* edge_img = edge_img_.data();
-  FaceImage* face_img = face_img_.data();
-  // Byte marks of the faces and cells to visit, all zero between slices (cleared by the visits,
-  // or wholly when the kernel stops half way).
-  if (face_mark_.size() < F.offsets.size() - 1) face_mark_.resize(F.offsets.size() - 1, 0);
-  if (cell_mark_.size() < C.offsets.size() - 1) cell_mark_.resize(C.offsets.size() - 1, 0);
-  std::uint8_t* face_marks = face_mark_.data();
-  std::uint8_t* cell_marks = cell_mark_.data();
+  const std::size_t nf = F.offsets.size() - 1, nc = C.offsets.size() - 1;
+  if (face_mark_.size() < nf) face_mark_.resize(nf, 0);
+  if (cell_mark_.size() < nc) cell_mark_.resize(nc, 0);
+  if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
+  if (cell_steps_.size() < C.ids.size()) cell_steps_.resize(C.ids.size());
+  std::uint8_t* face_count = face_mark_.data();
+  std::uint8_t* cell_count = cell_mark_.data();
+  std::uint32_t* face_ends = face_ends_.data();
+  CellStep* cell_steps = cell_steps_.data();
   auto stop = [&](int result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
@@ -58,7 +98,9 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
   const std::uint32_t* face_up = m.up_offsets_[2].data();
   const std::uint32_t* face_up_ids = m.up_ids_[2].data();
-  // Rank 1: the crossings, in id order cluster by cluster.
+  const std::uint32_t* cell_off = C.offsets.data();
+  // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
+  // coefficient in the face's cut (the kFlip bit: +1).
   std::uint32_t cut_faces_bound = 0;
   for (auto c : touched_) {
     // The crossing edges first: listed without a branch (the sides are unpredictable), or
@@ -95,9 +137,16 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t v = v0 + i;
       vs[v] = {E.model_id.empty() ? e : E.model_id[e], 1, t};
       vertex_edge[v] = e;
-      // The crossing's coefficient in the edge's cut: +1 when the tail is below.
-      edge_img[e] = g | v | (side[a] < 0 ? 0u : kFlip);
-      for (std::uint32_t i = edge_up[e]; i < edge_up[e + 1]; ++i) face_marks[edge_up_ids[i]] = 1;
+      // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
+      // cut that times the edge's sign there (the coface's top bit: -1).
+      const std::uint32_t tail_above = side[a] < 0 ? 0u : kFlip;
+      for (std::uint32_t j = edge_up[e], end = edge_up[e + 1]; j < end; ++j) {
+        const std::uint32_t up = edge_up_ids[j];
+        const std::uint32_t f = up & kIndex;
+        const std::uint32_t k = face_count[f];
+        face_ends[2 * f + (k & 1u)] = v | ((up & kFlip) ^ tail_above);  // (k >= 2: fails below)
+        face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+      }
       cut_faces_bound += edge_up[e + 1] - edge_up[e];
     }
   }
@@ -105,46 +154,43 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     clear_to_empty(out, m.dim_ - 1);
     return 1;
   }
-  // Rank 2: a face with two crossings of opposite coefficients gives the section edge from the
-  // one with -1 to the one with +1.
+  // Rank 2: a face handed two crossings of opposite coefficients gives the section edge from
+  // the one with -1 to the one with +1, and hands it to its cells as the step their cut makes.
   Incidence::Storage edges = out.boundary[0].storage();
   edges.ids.resize(2 * std::size_t{cut_faces_bound});
   std::uint32_t* edge_row = edges.ids.data();
   std::uint32_t nse = 0, cut_cells_bound = 0;
+  bool overflow = false;
   {
-    const std::uint32_t* off = F.offsets.data();
-    const std::uint32_t* ids = F.ids.data();
-    const std::int8_t* signs = F.signs.data();
     std::vector<std::uint32_t>& src_store = out.source[1];
     src_store.resize(cut_faces_bound);
     std::uint32_t* src = src_store.data();
-    auto face = [&](std::uint32_t x) -> bool {
-      std::uint32_t v[2];
-      int coef[2];
-      int cnt = 0;
-      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
-        const std::uint64_t img = edge_img[ids[i]];
-        if ((img & kGen) != g) continue;
-        if (cnt == 2) return false;
-        const std::uint32_t low = static_cast<std::uint32_t>(img);
-        v[cnt] = low & kIndex;
-        coef[cnt] = (low & kFlip) ? signs[i] : -signs[i];
-        ++cnt;
+    auto face = [&](std::uint32_t x, std::uint32_t cnt) -> bool {
+      if (cnt != 2) return false;
+      const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
+      if (((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0) return false;
+      const std::uint32_t tail = ((p & kFlip) ? q : p) & kIndex;
+      const std::uint32_t head = ((p & kFlip) ? p : q) & kIndex;
+      const std::uint32_t se = nse++;
+      edge_row[2 * se] = tail;
+      edge_row[2 * se + 1] = head;
+      src[se] = F.model_id.empty() ? x : F.model_id[x];
+      for (std::uint32_t j = face_up[x], end = face_up[x + 1]; j < end; ++j) {
+        const std::uint32_t up = face_up_ids[j];
+        const std::uint32_t y = up & kIndex;
+        const std::uint32_t k = cell_count[y];
+        // The step's sign is minus the face's sign in the cell: forward when that is -1.
+        cell_steps[cell_off[y] + k] =
+            (up & kFlip) ? CellStep{tail, head, se} : CellStep{head, tail, se | kFlip};
+        overflow |= k == 255;
+        cell_count[y] = static_cast<std::uint8_t>(k + 1);
       }
-      if (cnt != 2 || v[0] == v[1] || coef[0] != -coef[1]) return false;
-      const bool first_is_tail = coef[0] < 0;
-      edge_row[2 * nse] = first_is_tail ? v[0] : v[1];
-      edge_row[2 * nse + 1] = first_is_tail ? v[1] : v[0];
-      face_img[x] = {gen_, nse, edge_row[2 * nse], edge_row[2 * nse + 1]};
-      src[nse] = F.model_id.empty() ? x : F.model_id[x];
-      ++nse;
-      for (std::uint32_t i = face_up[x]; i < face_up[x + 1]; ++i) cell_marks[face_up_ids[i]] = 1;
       cut_cells_bound += face_up[x + 1] - face_up[x];
       return true;
     };
     for (auto c : touched_)
-      if (!visit_marked_bytes(face_marks, m.begin_[1][c], m.begin_[1][c + 1], face))
-        return stop(-1);
+      if (!visit_counts(face_count, m.begin_[1][c], m.begin_[1][c + 1], face)) return stop(-1);
+    if (overflow) return stop(-1);
     src_store.resize(nse);
   }
   edges.ids.resize(2 * std::size_t{nse});
@@ -152,10 +198,10 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   edges.offsets.resize(std::size_t{nse} + 1);
   for (std::uint32_t i = 0; i <= nse; ++i) edges.offsets[i] = 2 * i;
   for (std::uint32_t i = 0; i < nse; ++i) edges.signs[2 * i] = -1, edges.signs[2 * i + 1] = 1;
-  // Rank 3 (the facets): the steps of a cell's section edges, one leaving each section vertex
-  // (stamped per cell), followed from the smallest tail; one loop through every step is the
-  // polygon the generic gathering chains (loops start at the smallest tail, steps follow
-  // heads). A pinch, an open chain or several loops: the generic gathering.
+  // Rank 3 (the facets): the steps a cell was handed, one leaving each section vertex (stamped
+  // per cell), followed from the smallest tail; one loop through every step is the polygon the
+  // generic gathering chains (loops start at the smallest tail, steps follow heads). A pinch,
+  // an open chain or several loops: the generic gathering.
   const std::size_t nsv = out.vertex_source.size();
   if (loop_step_.size() < nsv) loop_step_.resize(nsv, LoopStep{0, 0, 0});
   LoopStep* step = loop_step_.data();
@@ -168,9 +214,6 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const bool above = m.top_ > 3;
   const bool chains_above = above && !m.single_solid_;
   {
-    const std::uint32_t* off = C.offsets.data();
-    const std::uint32_t* ids = C.ids.data();
-    const std::int8_t* signs = C.signs.data();
     std::vector<std::uint32_t>& src_store = out.source[2];
     src_store.resize(cut_cells_bound);
     facet_internal_.resize(cut_cells_bound);
@@ -179,26 +222,21 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* facet = facet_internal_.data();
     std::uint32_t* poly_off = polys.offsets.data();
     std::uint32_t npoly = 0;
-    auto cell = [&](std::uint32_t x) -> bool {
+    auto cell = [&](std::uint32_t x, std::uint32_t ns) -> bool {
+      if (ns < 3) return false;
       if (++stamp_ == 0) {  // wrapped: forget every stamp
         for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
         stamp_ = 1;
       }
       const std::uint32_t st = stamp_;
-      std::uint32_t lo = 0xffffffffu, ns = 0;
-      for (std::uint32_t i = off[x], end = off[x + 1]; i < end; ++i) {
-        const FaceImage img = face_img[ids[i]];
-        if (img.gen != gen_) continue;
-        const std::uint32_t se = img.edge;
-        const bool forward = signs[i] < 0;  // the step's sign, -signs[i], is +1
-        const std::uint32_t tail = forward ? img.tail : img.head;
-        const std::uint32_t head = forward ? img.head : img.tail;
-        if (step[tail].stamp == st) return false;  // a pinch (or a face listed twice)
-        step[tail] = {st, head, forward ? se : se | kFlip};
-        lo = std::min(lo, tail);
-        ++ns;
+      std::uint32_t lo = 0xffffffffu;
+      const CellStep* steps = cell_steps + cell_off[x];
+      for (std::uint32_t i = 0; i < ns; ++i) {
+        const CellStep cs = steps[i];
+        if (step[cs.tail].stamp == st) return false;  // a pinch (or a face listed twice)
+        step[cs.tail] = {st, cs.head, cs.edge};
+        lo = std::min(lo, cs.tail);
       }
-      if (ns < 3) return false;
       std::uint32_t cur = lo;
       for (std::uint32_t k = 0;;) {
         const LoopStep sp = step[cur];
@@ -228,8 +266,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       return true;
     };
     for (auto c : touched_)
-      if (!visit_marked_bytes(cell_marks, m.begin_[2][c], m.begin_[2][c + 1], cell))
-        return stop(-1);
+      if (!visit_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], cell)) return stop(-1);
     src_store.resize(npoly);
     facet_internal_.resize(npoly);
     polys.offsets.resize(std::size_t{npoly} + 1);

@@ -181,8 +181,10 @@ void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
   const std::vector<std::uint32_t>& off = m.up_offsets_[k];
   const std::vector<std::uint32_t>& ids = m.up_ids_[k];
   std::vector<std::uint64_t>& bits = mark_[k + 1];
-  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i)
-    bits[ids[i] >> 6] |= std::uint64_t{1} << (ids[i] & 63);
+  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) {
+    const std::uint32_t y = ids[i] & SliceModel::kUpIndex;
+    bits[y >> 6] |= std::uint64_t{1} << (y & 63);
+  }
 }
 
 bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
@@ -203,14 +205,7 @@ void Slicer::prepare(const SliceModel& m) {
   const std::size_t nv = m.positions_.size() / m.dim_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
-    std::fill(edge_img_.begin(), edge_img_.end(), 0);
-    std::fill(face_img_.begin(), face_img_.end(), FaceImage{});
     gen_ = 1;
-  }
-  if (top >= 2) {
-    const std::size_t ne = m.ranks_[1].offsets.size() - 1, nf = m.ranks_[2].offsets.size() - 1;
-    if (edge_img_.size() < ne) edge_img_.resize(ne, 0);
-    if (face_img_.size() < nf) face_img_.resize(nf);
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   if (images_.size() < static_cast<std::size_t>(top + 1))

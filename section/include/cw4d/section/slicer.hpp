@@ -102,8 +102,11 @@ class SliceModel {
   std::vector<std::uint32_t> vertex_id_;  // internal vertex -> model vertex (empty: identity)
   std::vector<Rank> ranks_;               // ranks_[k], k = 1..top_ (ranks_[0] unused)
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
-  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach.
+  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
+  // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
   std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
+  static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
+  bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
@@ -306,17 +309,18 @@ class Slicer {
   // section edge a stamp (a face listed twice in a cell goes to the generic gathering).
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
-  // kernel_slice scratch: per model edge (gen_ << 32) | section vertex | sign bit, per model
-  // face its section edge with the edge's ends (one load per step of a cell), per section
-  // vertex the step leaving it in the current cell.
+  // kernel_slice scratch: per model face the crossings handed to it (count in face_mark_, the
+  // two section vertices | coefficient bit in face_ends_), per model cell the steps handed to
+  // it (count in cell_mark_, the steps in cell_steps_ at the cell's boundary offset), per
+  // section vertex the step leaving it in the current cell.
   struct LoopStep {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  struct FaceImage {
-    std::uint32_t gen = 0, edge = 0, tail = 0, head = 0;  // its section edge and that's ends
+  struct CellStep {
+    std::uint32_t tail, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  std::vector<std::uint64_t> edge_img_;
-  std::vector<FaceImage> face_img_;
+  std::vector<std::uint32_t> face_ends_;
+  std::vector<CellStep> cell_steps_;
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
