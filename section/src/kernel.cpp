@@ -222,15 +222,62 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* facet = facet_internal_.data();
     std::uint32_t* poly_off = polys.offsets.data();
     std::uint32_t npoly = 0;
+    // The polygon of cell x, its entries written.
+    auto emit = [&](std::uint32_t x) {
+      const std::uint32_t poly = npoly++;
+      poly_off[npoly] = entries;
+      src[poly] = C.model_id.empty() ? x : C.model_id[x];
+      facet[poly] = x;
+      if (above) {
+        if (chains_above) {
+          images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
+          terms_[3].push_back({poly, 1});
+        }
+        mark_parents(m, 3, x);
+      }
+    };
+    // A small cut (up to kSmall steps: a tetrahedron's, a dodecahedron's) is chained in registers,
+    // the step after each found by comparing tails, which decides exactly as the map below does.
+    constexpr std::uint32_t kSmall = 12;
+    auto small_cell = [&](const CellStep* steps, std::uint32_t ns) -> bool {
+      std::uint32_t tails[kSmall], heads[kSmall], edges_of[kSmall];
+      std::uint32_t lo = 0;
+      for (std::uint32_t i = 0; i < ns; ++i) {
+        tails[i] = steps[i].tail, heads[i] = steps[i].head, edges_of[i] = steps[i].edge;
+        for (std::uint32_t j = 0; j < i; ++j)
+          if (tails[j] == tails[i]) return false;  // a pinch (or a face listed twice)
+        if (tails[i] < tails[lo]) lo = i;
+      }
+      const std::uint32_t first = tails[lo];
+      std::uint32_t cur = lo;
+      for (std::uint32_t k = 0;;) {
+        poly_ids[entries] = edges_of[cur] & kIndex;
+        poly_signs[entries] = (edges_of[cur] & kFlip) ? -1 : 1;
+        ++entries;
+        ++k;
+        const std::uint32_t h = heads[cur];
+        if (h == first) return k == ns;  // closed: one loop through every step, or several
+        if (k == ns) return false;
+        std::uint32_t next = kSmall;
+        for (std::uint32_t j = 0; j < ns; ++j) next = tails[j] == h ? j : next;
+        if (next == kSmall) return false;  // the chain does not close
+        cur = next;
+      }
+    };
     auto cell = [&](std::uint32_t x, std::uint32_t ns) -> bool {
       if (ns < 3) return false;
+      const CellStep* steps = cell_steps + cell_off[x];
+      if (ns <= kSmall) {
+        if (!small_cell(steps, ns)) return false;
+        emit(x);
+        return true;
+      }
       if (++stamp_ == 0) {  // wrapped: forget every stamp
         for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
         stamp_ = 1;
       }
       const std::uint32_t st = stamp_;
       std::uint32_t lo = 0xffffffffu;
-      const CellStep* steps = cell_steps + cell_off[x];
       for (std::uint32_t i = 0; i < ns; ++i) {
         const CellStep cs = steps[i];
         if (step[cs.tail].stamp == st) return false;  // a pinch (or a face listed twice)
@@ -252,17 +299,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         }
         if (k == ns) return false;
       }
-      const std::uint32_t poly = npoly++;
-      poly_off[npoly] = entries;
-      src[poly] = C.model_id.empty() ? x : C.model_id[x];
-      facet[poly] = x;
-      if (above) {
-        if (chains_above) {
-          images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
-          terms_[3].push_back({poly, 1});
-        }
-        mark_parents(m, 3, x);
-      }
+      emit(x);
       return true;
     };
     for (auto c : touched_)
