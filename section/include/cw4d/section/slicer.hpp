@@ -321,6 +321,7 @@ class Slicer {
   };
   std::vector<std::uint32_t> face_ends_;
   std::vector<CellStep> cell_steps_;
+  std::vector<std::uint64_t> visit_list_;  // (element << 8) | count of the faces or cells to cut
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
