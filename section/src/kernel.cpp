@@ -228,6 +228,9 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const src = out.source[2].data();
     std::uint32_t* const facet = facet_internal_.data();
     LoopStep* const step = loop_step_.data();
+    const std::uint32_t* const solid_up = above ? m.up_offsets_[3].data() : nullptr;
+    const std::uint32_t* const solid_up_ids = above ? m.up_ids_[3].data() : nullptr;
+    std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     constexpr std::uint32_t kSmall = 12;
     std::uint32_t entries = 0;
     for (auto c : touched_) {
@@ -307,7 +310,10 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
             images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
             terms_[3].push_back({poly, 1});
           }
-          mark_parents(m, 3, x);
+          for (std::uint32_t j = solid_up[x]; j < solid_up[x + 1]; ++j) {  // mark_parents
+            const std::uint32_t y = solid_up_ids[j] & kIndex;
+            solid_bits[y >> 6] |= std::uint64_t{1} << (y & 63);
+          }
         }
       }
       if (!ok) return stop(-1);
