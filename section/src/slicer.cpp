@@ -228,6 +228,8 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   out.dim = n - 1;
   out.plane.normal = pl.plane->normal;
   out.plane.offset = pl.offset;
+  out.frame_normal_.assign(pl.plane->normal.data(), pl.plane->normal.data() + n);
+  out.frame_basis_.assign(pl.basis, pl.basis + n * (n - 1));
   out.coords.clear();
   out.vertex_source.clear();
   section_edge_.clear();
@@ -657,7 +659,17 @@ Section to_section(const SliceBuffers& b) {
 Section to_section_untested(const SliceBuffers& b) {
   Section sec;
   const int dim = b.dim;
-  sec.frame = HyperplaneFrame(b.plane);
+  // The slice's own basis when it was computed for this very normal (bit for bit: the same
+  // function of the same numbers), else computed.
+  const auto n = b.plane.normal.size();
+  if (b.frame_basis_.size() == static_cast<std::size_t>(n * (n - 1)) &&
+      b.frame_normal_.size() == static_cast<std::size_t>(n) &&
+      std::memcmp(b.frame_normal_.data(), b.plane.normal.data(), n * sizeof(double)) == 0) {
+    sec.frame.plane = b.plane;
+    sec.frame.basis = Eigen::Map<const Eigen::MatrixXd>(b.frame_basis_.data(), n, n - 1);
+  } else {
+    sec.frame = HyperplaneFrame(b.plane);
+  }
   Complex c(dim);
   const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());
   c.set_positions(Eigen::Map<const Eigen::MatrixXd>(b.coords.data(), dim, nv));

@@ -169,6 +169,10 @@ struct SliceBuffers {
   std::vector<std::uint32_t> cache_facet_;    // internal facet of each section facet
   bool cache_reflect_ = false;
   bool cache_valid_ = false;
+  // The section frame's basis (hyperplane_basis of frame_normal_, column-major), computed by
+  // the slice for its placement and handed to to_section when the plane still has that normal.
+  std::vector<double> frame_normal_, frame_basis_;
+  friend Section to_section_untested(const SliceBuffers& buffers);
 };
 
 /// The Section of the buffers (as section() returns it, including self_intersecting).
