@@ -83,13 +83,11 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   if (face_mark_.size() < nf) face_mark_.resize(nf, 0);
   if (cell_mark_.size() < nc) cell_mark_.resize(nc, 0);
   if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
-  if (cell_steps_.size() < C.ids.size()) cell_steps_.resize(C.ids.size());
-  if (visit_list_.size() < std::max(nf, nc)) visit_list_.resize(std::max(nf, nc));
+  if (cell_base_.size() < nc) cell_base_.resize(nc);
   std::uint8_t* const face_count = face_mark_.data();
   std::uint8_t* const cell_count = cell_mark_.data();
   std::uint32_t* const face_ends = face_ends_.data();
-  CellStep* const cell_steps = cell_steps_.data();
-  std::uint64_t* const visit = visit_list_.data();
+  std::uint32_t* const cell_base = cell_base_.data();
   auto stop = [this](int result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
@@ -99,7 +97,6 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const std::uint32_t* const edge_up_ids = m.up_ids_[1].data();
   const std::uint32_t* const face_up = m.up_offsets_[2].data();
   const std::uint32_t* const face_up_ids = m.up_ids_[2].data();
-  const std::uint32_t* const cell_off = C.offsets.data();
   // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
   // coefficient in the face's cut (the kFlip bit: +1).
   std::uint32_t cut_faces_bound = 0;
@@ -168,9 +165,13 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const edge_row = edges.ids.data();
     std::uint32_t* const src = out.source[1].data();
     bool bad = false;
+    CellPush* push = cell_push_.data();
+    std::size_t push_room = cell_push_.size();
     for (auto c : touched_) {
-      const std::uint64_t* const end =
-          list_counts(face_count, m.begin_[1][c], m.begin_[1][c + 1], visit);
+      const std::uint32_t b = m.begin_[1][c], e = m.begin_[1][c + 1];
+      if (visit_list_.size() < e - b) visit_list_.resize(e - b);
+      std::uint64_t* const visit = visit_list_.data();
+      const std::uint64_t* const end = list_counts(face_count, b, e, visit);
       for (const std::uint64_t* it = visit; it != end; ++it) {
         const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
         const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
@@ -183,17 +184,21 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         edge_row[2 * se + 1] = head;
         src[se] = face_model ? face_model[x] : x;
         const std::uint32_t j0 = face_up[x], j1 = face_up[x + 1];
+        if (cut_cells_bound + (j1 - j0) > push_room) {  // (rare once the scratch has grown)
+          cell_push_.resize(2 * (std::size_t{cut_cells_bound} + (j1 - j0)));
+          push = cell_push_.data();
+          push_room = cell_push_.size();
+        }
         for (std::uint32_t j = j0; j < j1; ++j) {
           const std::uint32_t up = face_up_ids[j];
           const std::uint32_t y = up & kIndex;
           const std::uint32_t k = cell_count[y];
           // The step's sign is minus the face's sign in the cell: forward when that is -1.
-          cell_steps[cell_off[y] + k] =
-              (up & kFlip) ? CellStep{tail, head, se} : CellStep{head, tail, se | kFlip};
+          push[cut_cells_bound++] = {
+              y, (up & kFlip) ? CellStep{tail, head, se} : CellStep{head, tail, se | kFlip}};
           bad |= k == 255;
           cell_count[y] = static_cast<std::uint8_t>(k + 1);
         }
-        cut_cells_bound += j1 - j0;
       }
       if (bad) return stop(-1);
     }
@@ -233,14 +238,28 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     constexpr std::uint32_t kSmall = 12;
     std::uint32_t entries = 0;
-    for (auto c : touched_) {
-      const std::uint64_t* const end =
-          list_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], visit);
+    // The cut cells, cluster by cluster, with their counts; their steps grouped by cell (each
+    // cell's in the order they were handed) in one pass over what the faces handed.
+    if (visit_list_.size() < cut_cells_bound) visit_list_.resize(cut_cells_bound);
+    std::uint64_t* const visit = visit_list_.data();
+    std::uint64_t* end = visit;
+    for (auto c : touched_) end = list_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], end);
+    std::uint32_t sum = 0;
+    for (const std::uint64_t* it = visit; it != end; ++it) {
+      cell_base[*it >> 8] = sum;
+      sum += static_cast<std::uint32_t>(*it & 0xffu);
+    }
+    if (cell_steps_.size() < sum) cell_steps_.resize(sum);
+    CellStep* const grouped = cell_steps_.data();
+    const CellPush* const push = cell_push_.data();
+    for (std::uint32_t i = 0; i < cut_cells_bound; ++i)
+      grouped[cell_base[push[i].cell]++] = push[i].step;
+    {
       bool ok = true;
       for (const std::uint64_t* it = visit; it != end && ok; ++it) {
         const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
         const std::uint32_t ns = static_cast<std::uint32_t>(*it & 0xffu);
-        const CellStep* const steps = cell_steps + cell_off[x];
+        const CellStep* const steps = grouped + (cell_base[x] - ns);  // (bases moved past)
         if (ns < 3) {
           ok = false;
         } else if (ns <= kSmall) {

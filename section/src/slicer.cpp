@@ -211,11 +211,21 @@ void Slicer::prepare(const SliceModel& m) {
   if (images_.size() < static_cast<std::size_t>(top + 1))
     images_.resize(top + 1), terms_.resize(top + 1);
   if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
+  // The R^4 kernel needs the images of ranks 3 and up only (cut_upper above its polygons); the
+  // generic gathering sizes the rest when it runs (size_images).
+  const int from = m.dim_ == 4 && top >= 3 ? 3 : 1;
   for (int k = 1; k <= top; ++k) {
     const std::size_t count = m.ranks_[k].offsets.size() - 1;
-    if (images_[k].size() < count) images_[k].resize(count);
+    if (k >= from && images_[k].size() < count) images_[k].resize(count);
     terms_[k].clear();
     if (mark_[k].size() < (count + 63) / 64) mark_[k].resize((count + 63) / 64, 0);
+  }
+}
+
+void Slicer::size_images(const SliceModel& m) {
+  for (int k = 1; k <= m.top_; ++k) {
+    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    if (images_[k].size() < count) images_[k].resize(count);
   }
 }
 
@@ -320,6 +330,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     }
     clear_marks(m);  // something for the generic gathering: it cuts the slice from the start
   }
+  size_images(m);
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
   const SliceModel::Rank& E = m.ranks_[1];

@@ -242,6 +242,7 @@ class Slicer {
   bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                   SliceBuffers& out);
   void prepare(const SliceModel& m);
+  void size_images(const SliceModel& m);  // (prepare leaves ranks 1, 2 to it in R^4)
   void clear_marks(const SliceModel& m);
   void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   // The crossing parameter of edge e from s_; false when it lies within the weld distance of
@@ -314,8 +315,8 @@ class Slicer {
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
   // kernel_slice scratch: per model face the crossings handed to it (count in face_mark_, the
-  // two section vertices | coefficient bit in face_ends_), per model cell the steps handed to
-  // it (count in cell_mark_, the steps in cell_steps_ at the cell's boundary offset), per
+  // two section vertices | coefficient bit in face_ends_), per model cell the number of steps
+  // handed to it (cell_mark_; the steps themselves sized by the section, not the model), per
   // section vertex the step leaving it in the current cell.
   struct LoopStep {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
@@ -323,8 +324,14 @@ class Slicer {
   struct CellStep {
     std::uint32_t tail, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
+  struct CellPush {
+    std::uint32_t cell;
+    CellStep step;
+  };
   std::vector<std::uint32_t> face_ends_;
-  std::vector<CellStep> cell_steps_;
+  std::vector<CellPush> cell_push_;        // the steps the cut faces handed, in that order
+  std::vector<CellStep> cell_steps_;       // the same grouped by cell
+  std::vector<std::uint32_t> cell_base_;   // per model cell: where its steps start there
   std::vector<std::uint64_t> visit_list_;  // (element << 8) | count of the faces or cells to cut
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
