@@ -213,10 +213,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
     }
   }
-  const auto& fnrm = model.facet_normals();
-  facet_normals_.resize(n * nf);
-  for (std::size_t i = 0; i < nf; ++i)
-    for (int j = 0; j < n; ++j) facet_normals_[i * n + j] = fnrm(j, order[fr][i]);
+  // (No copy of the facet normals: a slice reads the complex's through ranks_[fr].model_id.)
   // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
   cluster_sphere_.resize(nc * (n + 1));
   for (std::size_t c = 0; c < nc; ++c) {

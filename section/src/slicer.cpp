@@ -571,7 +571,7 @@ namespace {
 // nearly parallel to the plane.
 template <int N>
 bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M, const double* c,
-                   const double* Nm, const double* facet_normals,
+                   const double* Nm, const double* facet_normals, const std::uint32_t* facet_id,
                    std::span<const std::uint32_t> section_edge, const VertexSource* source,
                    std::span<const std::uint32_t> facet_internal, double* coords, double* normals) {
   constexpr int O = N - 1;
@@ -591,7 +591,8 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
   }
   // Facet normals: the model facets' normals through A^{-T}, projected, unit.
   for (std::size_t f = 0; f < facet_internal.size(); ++f) {
-    const double* nf = facet_normals + facet_internal[f] * N;
+    const std::uint32_t x = facet_internal[f];
+    const double* nf = facet_normals + std::size_t{facet_id ? facet_id[x] : x} * N;
     double y[O], len2 = 0.0;
     for (int r = 0; r < O; ++r) {
       double sum = 0.0;
@@ -617,9 +618,12 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   out.coords.resize(section_edge.size() * o);
   out.facet_normals.resize(facet_internal.size() * o);
   const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
-  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, m.facet_normals_.data(),
-            section_edge, out.vertex_source.data(), facet_internal, out.coords.data(),
-            out.facet_normals.data()))
+  // The compiled copy of the facet normals, or (clustered models) the complex's own.
+  const bool copied = !m.facet_normals_.empty() || m.ranks_[o].model_id.empty();
+  const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
+  const std::uint32_t* fid = copied ? nullptr : m.ranks_[o].model_id.data();
+  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
+            out.vertex_source.data(), facet_internal, out.coords.data(), out.facet_normals.data()))
     return fail(FallbackReason::NearParallel);
   return true;
 }

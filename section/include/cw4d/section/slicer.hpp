@@ -65,7 +65,8 @@ struct SliceModelOptions {
 /// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
 /// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
 /// weld distance. Immutable after construction and safe to share between threads. Keeps a
-/// reference to `model`, which must outlive it (the general path cuts the model itself); a
+/// reference to `model`, which must outlive it (the general path cuts the model itself, and a
+/// clustered model's slices read its facet normals); a
 /// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
@@ -112,8 +113,10 @@ class SliceModel {
   bool single_solid_ = false;
   std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
-  std::vector<double> facet_normals_;  // dim_ per internal facet
-  std::vector<double> edge_length_;    // per internal edge
+  // dim_ per internal facet; empty when clustered (the complex's are read through the facets'
+  // model ids: renumbered models are never compared against the complex, see compiled_from).
+  std::vector<double> facet_normals_;
+  std::vector<double> edge_length_;  // per internal edge
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
