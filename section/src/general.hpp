@@ -1,5 +1,6 @@
 #pragma once
-// What section.cpp and slicer.cpp share: input checks and chain arithmetic.
+// What section.cpp and the slicer files (slicer.cpp, kernel.cpp, sweep.cpp, ...) share: input
+// checks and chain arithmetic.
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 

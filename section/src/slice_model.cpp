@@ -1,0 +1,355 @@
+#include "cw4d/section/slicer.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <unordered_map>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/complex/fork_join.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/tolerances.hpp"
+#include "general.hpp"
+#include "slicer_detail.hpp"
+
+namespace cw4d {
+
+namespace {
+
+// Morton code of a point quantised to `bits` bits per coordinate inside [lo, hi].
+std::uint64_t morton(const double* x, const double* lo, const double* hi, int n) {
+  const int bits = 64 / n;
+  const double cells = std::ldexp(1.0, bits) - 1.0;
+  std::uint64_t q[kMaxDim] = {};
+  for (int i = 0; i < n; ++i) {
+    const double span = hi[i] - lo[i];
+    const double f = span > 0.0 ? (x[i] - lo[i]) / span : 0.0;
+    q[i] = static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * cells);
+  }
+  std::uint64_t key = 0;
+  for (int b = bits - 1; b >= 0; --b)
+    for (int i = 0; i < n; ++i) key = (key << 1) | ((q[i] >> b) & 1u);
+  return key;
+}
+
+// Whether every element of rank k < n-1 bounds an element of rank k + 1 (so every piece the
+// fast path cuts reaches a facet, as the general path's pruning requires).
+bool every_element_bounds(const Complex& c, int below_rank) {
+  for (int k = 1; k <= below_rank + 1 && k <= c.top_rank(); ++k) {
+    std::vector<char> used(c.count(k - 1), 0);
+    for (auto id : c.boundary(k).all_ids()) used[id] = 1;
+    if (std::find(used.begin(), used.end(), 0) != used.end()) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* to_string(FallbackReason r) {
+  switch (r) {
+    case FallbackReason::None:
+      return "none";
+    case FallbackReason::Model:
+      return "model";
+    case FallbackReason::OnPlane:
+      return "on-plane";
+    case FallbackReason::Weld:
+      return "weld";
+    case FallbackReason::FaceCut:
+      return "face-cut";
+    case FallbackReason::CellCut:
+      return "cell-cut";
+    case FallbackReason::Multiplicity:
+      return "multiplicity";
+    case FallbackReason::NearParallel:
+      return "near-parallel";
+  }
+  return "?";
+}
+
+// --- SliceModel -------------------------------------------------------------------------------
+
+namespace {
+std::atomic<std::uint64_t> next_serial{1};
+}  // namespace
+
+SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
+    : model_(&model), serial_(next_serial.fetch_add(1, std::memory_order_relaxed)) {
+  const int n = model.ambient_dim();
+  dim_ = n;
+  top_ = model.top_rank();
+  const std::size_t nv = model.count(0);
+  const auto& p = model.positions();
+  // Bounding box, sphere and the largest vertex norm (the tolerance scale of section()).
+  centre_ = Eigen::VectorXd::Zero(n);
+  double max_norm2 = 0.0;
+  Eigen::VectorXd lo = Eigen::VectorXd::Zero(n), hi = Eigen::VectorXd::Zero(n);
+  if (nv > 0) {
+    lo = p.rowwise().minCoeff();
+    hi = p.rowwise().maxCoeff();
+    centre_ = 0.5 * (lo + hi);
+    radius_ = (p.colwise() - centre_).colwise().norm().maxCoeff();
+    for (std::size_t v = 0; v < nv; ++v)
+      max_norm2 = std::max(max_norm2, p.col(static_cast<Eigen::Index>(v)).squaredNorm());
+  }
+  max_norm_ = std::sqrt(max_norm2);
+  weld_ = tol::weld_rel * (hi - lo).norm();
+  const int fr = n - 1;
+  bool two_ends = top_ >= 1;
+  if (two_ends) {
+    const Incidence& edges = model.boundary(1);
+    for (std::size_t e = 0; e < edges.size() && two_ends; ++e) two_ends = edges.row_size(e) == 2;
+  }
+  fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
+          two_ends && every_element_bounds(model, fr - 1);
+  for (int k = 0; k <= top_ && fast_; ++k)  // (ids with a free top bit: the coface signs)
+    fast_ = model.count(k) <= kUpIndex;
+  if (!fast_) {
+    cluster_vertex_ = {0};
+    return;
+  }
+  const std::size_t nf = model.count(fr);
+  ranks_.resize(top_ + 1);
+  begin_.assign(fr, {});
+  const bool clustered = nf >= options.cluster_threshold && options.cluster_size > 0;
+  if (!clustered) {
+    positions_.assign(p.data(), p.data() + n * nv);
+    for (int k = 1; k <= top_; ++k) {
+      const Incidence& t = model.boundary(k);
+      ranks_[k].offsets = t.offsets();
+      ranks_[k].ids = t.all_ids();
+      ranks_[k].signs = t.all_signs();
+    }
+    for (int k = 1; k <= fr; ++k) begin_[k - 1] = {0, static_cast<std::uint32_t>(model.count(k))};
+    cluster_vertex_ = {0, static_cast<std::uint32_t>(nv)};
+    cluster_vertices_.resize(nv);
+    std::iota(cluster_vertices_.begin(), cluster_vertices_.end(), 0u);
+    cluster_sphere_.assign(centre_.data(), centre_.data() + n);
+    cluster_sphere_.push_back(radius_);
+    const auto& fnrm = model.facet_normals();
+    facet_normals_.assign(fnrm.data(), fnrm.data() + n * nf);
+    build_cofaces();
+    find_single_solid();
+    return;
+  }
+  // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
+  // cluster_size; every lower element goes to the first cluster whose facets reach it.
+  std::vector<std::uint64_t> key(nf);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+  std::vector<std::uint32_t> facet_order(nf);
+  std::iota(facet_order.begin(), facet_order.end(), 0u);
+  std::stable_sort(facet_order.begin(), facet_order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  const std::size_t nc = (nf + options.cluster_size - 1) / options.cluster_size;
+  // new_id[k][model id] for ranks 0..fr; order[k] = model ids in internal order.
+  std::vector<std::vector<std::uint32_t>> new_id(fr + 1), order(fr + 1);
+  for (int k = 0; k <= fr; ++k) {
+    new_id[k].assign(model.count(k), none);
+    order[k].reserve(model.count(k));
+  }
+  for (int k = 1; k <= fr; ++k) begin_[k - 1].assign(1, 0);
+  cluster_vertex_.assign(1, 0);
+  std::vector<std::uint32_t> stamp(nv, none), fresh, verts;
+  std::vector<std::vector<std::uint32_t>> frontier(fr + 1);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const std::size_t f0 = c * options.cluster_size, f1 = std::min(nf, f0 + options.cluster_size);
+    for (int k = 0; k <= fr; ++k) frontier[k].clear();
+    verts.clear();
+    for (std::size_t i = f0; i < f1; ++i) frontier[fr].push_back(facet_order[i]);
+    // Walk down: the cluster's elements of each rank (all of them, for the vertex list), and
+    // those not yet owned by an earlier cluster.
+    for (int k = fr; k >= 1; --k) {
+      std::vector<std::uint32_t>& below = frontier[k - 1];
+      const Incidence& t = model.boundary(k);
+      for (auto x : frontier[k])
+        for (auto id : t.ids(x)) below.push_back(id);
+      std::sort(below.begin(), below.end());
+      below.erase(std::unique(below.begin(), below.end()), below.end());
+    }
+    for (int k = fr; k >= 0; --k) {
+      fresh.clear();
+      for (auto x : frontier[k])
+        if (new_id[k][x] == none) fresh.push_back(x);
+      if (k == fr) std::sort(fresh.begin(), fresh.end());
+      for (auto x : fresh) {
+        new_id[k][x] = static_cast<std::uint32_t>(order[k].size());
+        order[k].push_back(x);
+      }
+      if (k >= 1) begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
+    }
+    for (auto v : frontier[0]) verts.push_back(new_id[0][v]);
+    std::sort(verts.begin(), verts.end());
+    cluster_vertices_.insert(cluster_vertices_.end(), verts.begin(), verts.end());
+    cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
+  }
+  // Elements no facet reaches cannot exist here (every_element_bounds).
+  vertex_id_ = order[0];
+  positions_.resize(n * nv);
+  for (std::size_t i = 0; i < nv; ++i)
+    for (int j = 0; j < n; ++j) positions_[i * n + j] = p(j, vertex_id_[i]);
+  for (int k = 1; k <= top_; ++k) {
+    const Incidence& t = model.boundary(k);
+    Rank& r = ranks_[k];
+    const bool renumbered = k <= fr;
+    const std::size_t count = t.size();
+    r.offsets.assign(1, 0);
+    r.offsets.reserve(count + 1);
+    r.ids.reserve(t.entries());
+    r.signs.reserve(t.entries());
+    if (renumbered) r.model_id = order[k];
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t x = renumbered ? order[k][i] : static_cast<std::uint32_t>(i);
+      for (auto id : t.ids(x)) r.ids.push_back(new_id[k - 1][id]);
+      const auto sg = t.signs(x);
+      r.signs.insert(r.signs.end(), sg.begin(), sg.end());
+      r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
+    }
+  }
+  // (No copy of the facet normals: a slice reads the complex's through ranks_[fr].model_id.)
+  // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
+  cluster_sphere_.resize(nc * (n + 1));
+  for (std::size_t c = 0; c < nc; ++c) {
+    double clo[kMaxDim], chi[kMaxDim];
+    std::fill(clo, clo + n, std::numeric_limits<double>::infinity());
+    std::fill(chi, chi + n, -std::numeric_limits<double>::infinity());
+    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = positions_[cluster_vertices_[i] * n + j];
+        clo[j] = std::min(clo[j], x);
+        chi[j] = std::max(chi[j], x);
+      }
+    double* sphere = &cluster_sphere_[c * (n + 1)];
+    for (int j = 0; j < n; ++j) sphere[j] = 0.5 * (clo[j] + chi[j]);
+    double r2 = 0.0;
+    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i) {
+      double d2 = 0.0;
+      for (int j = 0; j < n; ++j) {
+        const double d = positions_[cluster_vertices_[i] * n + j] - sphere[j];
+        d2 += d * d;
+      }
+      r2 = std::max(r2, d2);
+    }
+    sphere[n] = std::sqrt(r2);
+  }
+  build_cofaces();
+  find_single_solid();
+}
+
+void SliceModel::find_single_solid() {
+  single_solid_ = false;
+  solid_sign_.clear();
+  if (top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
+  const std::size_t nf = ranks_[dim_ - 1].offsets.size() - 1;
+  if (ranks_[top_].ids.size() != nf) return;
+  std::vector<std::int8_t> sign(nf, 0);
+  for (std::size_t i = 0; i < nf; ++i) {
+    const auto id = ranks_[top_].ids[i];
+    if (sign[id] != 0) return;
+    sign[id] = ranks_[top_].signs[i];
+  }
+  single_solid_ = true;
+  if (dim_ == 3) solid_sign_ = std::move(sign);
+}
+
+void SliceModel::build_cofaces() {
+  // Edge lengths, for the weld test of each crossing (summed in the order crossing() used to).
+  {
+    const Rank& E = ranks_[1];
+    const std::size_t ne = E.offsets.size() - 1;
+    edge_length_.resize(ne);
+    const double* P = positions_.data();
+    for (std::size_t e = 0; e < ne; ++e) {
+      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+      double len2 = 0.0;
+      for (int j = 0; j < dim_; ++j) {
+        const double d = P[b * dim_ + j] - P[a * dim_ + j];
+        len2 += d * d;
+      }
+      edge_length_[e] = std::sqrt(len2);
+    }
+  }
+  up_offsets_.assign(top_, {});
+  up_ids_.assign(top_, {});
+  for (int k = 1; k < top_; ++k) {
+    const Rank& above = ranks_[k + 1];
+    const std::size_t count = ranks_[k].offsets.size() - 1;
+    std::vector<std::uint32_t>& off = up_offsets_[k];
+    off.assign(count + 1, 0);
+    for (auto id : above.ids) ++off[id + 1];
+    for (std::size_t i = 0; i < count; ++i) off[i + 1] += off[i];
+    std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
+    up_ids_[k].resize(above.ids.size());
+    const std::size_t rows = above.offsets.size() - 1;
+    for (std::uint32_t x = 0; x < rows; ++x)
+      for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
+        up_ids_[k][fill[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
+  }
+  unit_signs_ = true;
+  for (int k = 2; k <= std::min(top_, 3); ++k)
+    for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
+}
+
+bool SliceModel::compiled_from(const Complex& c) const {
+  if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
+  const auto same = [](const auto* a, const auto* b, std::size_t count) {
+    return count == 0 || std::memcmp(a, b, count * sizeof(*a)) == 0;
+  };
+  const Eigen::MatrixXd& p = c.positions();
+  const Eigen::MatrixXd& fn = c.facet_normals();
+  if (!fast_) return false;  // (nothing compiled but the verdict)
+  if (!vertex_id_.empty() || static_cast<std::size_t>(p.size()) != positions_.size() ||
+      static_cast<std::size_t>(fn.size()) != facet_normals_.size() ||
+      !same(p.data(), positions_.data(), positions_.size()) ||
+      !same(fn.data(), facet_normals_.data(), facet_normals_.size()))
+    return false;
+  for (int k = 1; k <= top_; ++k) {
+    const Incidence& t = c.boundary(k);
+    const Rank& r = ranks_[k];
+    if (!r.model_id.empty() || t.offsets().size() != r.offsets.size() ||
+        t.all_ids().size() != r.ids.size() ||
+        !same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
+        !same(t.all_ids().data(), r.ids.data(), r.ids.size()) ||
+        !same(t.all_signs().data(), r.signs.data(), r.signs.size()))
+      return false;
+  }
+  return true;
+}
+
+std::size_t SliceModel::bytes() const {
+  std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+                  facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
+                  cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +
+                  cluster_sphere_.size() * sizeof(double);
+  for (const Rank& r : ranks_)
+    b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
+  for (const auto& v : begin_) b += v.size() * 4;
+  for (const auto& v : up_offsets_) b += v.size() * 4;
+  for (const auto& v : up_ids_) b += v.size() * 4;
+  return b;
+}
+
+void SliceBuffers::set_ranks(int top) {
+  // Tables beyond `top` are parked, not freed, so that their storage serves later slices.
+  resize_keeping(boundary, spare_tables_, static_cast<std::size_t>(top));
+  for (auto& b : boundary) b.clear();
+  resize_keeping(source, spare_sources_, static_cast<std::size_t>(top) + 1);
+  for (auto& v : source) v.clear();
+}
+
+std::size_t SliceBuffers::fan_triangles() const {
+  if (boundary.size() < 2) return 0;
+  std::size_t t = 0;
+  const Incidence& faces = boundary[1];
+  for (std::size_t f = 0; f < faces.size(); ++f) t += faces.row_size(f) - 2;
+  return t;
+}
+
+}  // namespace cw4d
