@@ -58,17 +58,20 @@ void run_info(const InfoSettings& s) {
   // Measured on exactly rescaled positions, then scaled back: a volume beyond the range of a
   // double (coordinates near 1e308 in R^3, 1e77 in R^4, or 1e-80 in R^4) is said to be out of
   // range, not printed as nan, inf or 0.
-  std::optional<double> volume;
+  // (a plain double and a flag: GCC 12 at -O3 warns falsely that an optional<double> may be
+  // read uninitialised here)
+  double volume = 0.0;
+  bool has_volume = false;
   const char* out_of_range = nullptr;
   if (report.ok()) {
     const double scale = position_scale(model);
     const double rescaled = signed_volume(model, scale);
     volume = std::ldexp(rescaled, -dim * std::ilogb(scale));
-    if (!std::isfinite(*volume))
+    if (!std::isfinite(volume))
       out_of_range = "beyond the range of a double (the coordinates are too large)";
-    else if (*volume == 0.0 && rescaled != 0.0)
+    else if (volume == 0.0 && rescaled != 0.0)
       out_of_range = "below the range of a double (the coordinates are too small)";
-    if (out_of_range) volume.reset();
+    has_volume = !out_of_range;
   }
   std::optional<std::pair<double, double>> range;
   Eigen::VectorXd unit;
@@ -91,7 +94,7 @@ void run_info(const InfoSettings& s) {
     j["issues"] = nlohmann::ordered_json::array();
     for (const auto& issue : report.issues) j["issues"].push_back(issue.what);
     j["bounds"] = {{"min", lo}, {"max", hi}};
-    j["volume"] = volume ? nlohmann::ordered_json(*volume) : nlohmann::ordered_json(nullptr);
+    j["volume"] = has_volume ? nlohmann::ordered_json(volume) : nlohmann::ordered_json(nullptr);
     if (range) {
       j["normal"] = std::vector<double>(unit.data(), unit.data() + unit.size());
       j["offsets"] = {{"min", range->first}, {"max", range->second}};
@@ -111,7 +114,7 @@ void run_info(const InfoSettings& s) {
             << "valid      " << (report.ok() ? "yes" : "no: " + report.summary()) << '\n'
             << "bounds     min (" << join(lo, brief) << ")  max (" << join(hi, brief) << ")\n"
             << "volume     "
-            << (volume         ? brief(*volume)
+            << (has_volume     ? brief(volume)
                 : out_of_range ? out_of_range
                                : "n/a (invalid complex)")
             << '\n';
