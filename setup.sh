@@ -160,6 +160,8 @@ run_sanitizer_suite() {
   log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build in $dir/"
   # -g1 (line tables only): sanitizer reports keep function names and file:line, while each
   # object is ~3.5x smaller and compiles ~1.6x faster than with -g (bench/RESULTS.md, CI time).
+  # These flags replace CMake's RelWithDebInfo default (-O2 -g -DNDEBUG): without NDEBUG the
+  # assert()s on cw4d's internal invariants (and Eigen's index checks) are on in this build.
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCW4D_BUILD_BENCH=OFF \
     -DCW4D_BUILD_PYTHON=OFF \
     "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \

@@ -20,7 +20,7 @@ using namespace cw4d;
 namespace {
 
 double edge_length(const Complex& c) {
-  const auto [t, h] = c.edge(std::uint32_t{0});
+  const auto [t, h] = c.edge(0);
   return (c.position(h) - c.position(t)).norm();
 }
 

@@ -662,7 +662,7 @@ TEST_CASE("tet slicer: transforms, the Section view, and plane misses", "[tet][s
   const Section as_section = to_section(ts, m);
   for (std::uint32_t v = 0; v < as_section.complex.count(0); ++v) {
     const VertexSource& src = as_section.vertex_source[v];
-    if (src.rank != 1 || src.element == EdgeId::invalid_value) continue;
+    if (src.rank != 1 || src.element == no_index) continue;
     const auto e = m.edge(src.element);  // a model edge: the vertex is its point at t
     const Eigen::Vector4d x = xf.apply((1 - src.t) * m.position(e[0]) + src.t * m.position(e[1]));
     REQUIRE((as_section.world_position(v) - x).norm() < 1e-12);

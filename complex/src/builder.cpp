@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <deque>
 #include <string>
@@ -312,6 +313,7 @@ Complex build_complex(const ComplexSoup& soup, const BuildOptions& options) {
                        std::to_string(static_cast<long long>(max_orientation_work)));
     orient_complex(c);
   }
+  assert(c.well_formed());
   return c;
 }
 

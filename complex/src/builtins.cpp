@@ -103,7 +103,7 @@ struct Augmented {
       adj[ed[1]].push_back(ed[0]);
     }
     std::vector<std::uint32_t> out{0};
-    std::uint32_t prev = 0xffffffffu, cur = 0;
+    std::uint32_t prev = no_index, cur = 0;
     while (true) {
       const auto& nb = adj[cur];
       if (nb.size() != 2) throw TopologyError(0, {cur}, "polygon boundary is not a cycle");

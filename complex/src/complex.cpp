@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <functional>
 #include <stdexcept>
 
 namespace cw4d {
@@ -9,10 +10,22 @@ namespace cw4d {
 std::uint32_t Incidence::add_row(std::span<const std::uint32_t> ids,
                                  std::span<const std::int8_t> signs) {
   assert(ids.size() == signs.size());
+  assert(ids_.size() + ids.size() < no_index && offsets_.size() < no_index);
   ids_.insert(ids_.end(), ids.begin(), ids.end());
   signs_.insert(signs_.end(), signs.begin(), signs.end());
   offsets_.push_back(static_cast<std::uint32_t>(ids_.size()));
   return static_cast<std::uint32_t>(offsets_.size() - 2);
+}
+
+bool Incidence::well_formed(std::size_t lower_count) const {
+  if (offsets_.empty() || offsets_.front() != 0 || offsets_.back() != ids_.size() ||
+      ids_.size() != signs_.size())
+    return false;
+  if (std::adjacent_find(offsets_.begin(), offsets_.end(), std::greater<>()) != offsets_.end())
+    return false;
+  return std::all_of(ids_.begin(), ids_.end(),
+                     [&](std::uint32_t id) { return id < lower_count; }) &&
+         std::all_of(signs_.begin(), signs_.end(), [](std::int8_t s) { return s == 1 || s == -1; });
 }
 
 void Incidence::reserve(std::size_t rows, std::size_t entries) {
@@ -59,6 +72,32 @@ Incidence& Complex::boundary_mut(int rank) {
 
 void Complex::truncate(int max_rank) {
   if (max_rank < static_cast<int>(boundaries_.size())) boundaries_.resize(std::max(0, max_rank));
+}
+
+bool Complex::well_formed() const {
+  if (positions_.rows() != dim_) return false;
+  for (int r = 1; r <= top_rank(); ++r)
+    if (!boundaries_[r - 1].well_formed(count(r - 1))) return false;
+  if (top_rank() >= 1) {
+    const Incidence& edges = boundaries_[0];
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      if (edges.row_size(e) != 2 || edges.signs(e)[0] != -1 || edges.signs(e)[1] != 1) return false;
+  }
+  // Each face row is one closed walk, every head the next tail (in R^2 rank 2 is the solid: its
+  // row may list several loops).
+  if (top_rank() >= 2 && dim_ >= 3) {
+    const Incidence& faces = boundaries_[1];
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto ids = faces.ids(f);
+      const auto signs = faces.signs(f);
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        const std::size_t j = (i + 1) % ids.size();
+        const auto a = edge(ids[i]), b = edge(ids[j]);
+        if ((signs[i] > 0 ? a[1] : a[0]) != (signs[j] > 0 ? b[0] : b[1])) return false;
+      }
+    }
+  }
+  return true;
 }
 
 std::uint32_t Complex::add_edge(std::uint32_t tail, std::uint32_t head) {

@@ -70,7 +70,7 @@ std::vector<std::uint32_t> polygon_cycle(const Complex& c) {
     adj[ed[1]].push_back(ed[0]);
   }
   std::vector<std::uint32_t> out{0};
-  std::uint32_t prev = 0xffffffffu, cur = 0;
+  std::uint32_t prev = no_index, cur = 0;
   while (true) {
     if (adj[cur].size() != 2) throw InputError("polygon boundary is not a cycle");
     const std::uint32_t next = adj[cur][0] != prev ? adj[cur][0] : adj[cur][1];
@@ -373,8 +373,7 @@ Complex make_spin(const Complex& p, int steps) {
   };
   // Face ids: the copies of each swept face of P (steps per face), then the trapezoids swept by
   // its edges (steps per edge). Faces and edges inside the axis plane sweep nothing.
-  const std::uint32_t none = 0xffffffffu;
-  std::vector<std::uint32_t> face_block(p.count(2), none), edge_block(p.count(1), none);
+  std::vector<std::uint32_t> face_block(p.count(2), no_index), edge_block(p.count(1), no_index);
   for (std::uint32_t f = 0; f < p.count(2); ++f) {
     const auto cycle = p.face_cycle(f);
     if (all_on_axis(cycle)) continue;
@@ -399,11 +398,11 @@ Complex make_spin(const Complex& p, int steps) {
   }
   auto& cells = soup.higher.emplace_back();
   for (std::uint32_t f = 0; f < p.count(2); ++f) {
-    if (face_block[f] == none) continue;
+    if (face_block[f] == no_index) continue;
     for (std::uint32_t k = 0; k < us; ++k) {
       std::vector<std::uint32_t> row{face_block[f] + k, face_block[f] + (k + 1) % us};
       for (std::uint32_t e : p.boundary(2).ids(f))
-        if (edge_block[e] != none) row.push_back(edge_block[e] + k);
+        if (edge_block[e] != no_index) row.push_back(edge_block[e] + k);
       cells.push_back(std::move(row));
     }
   }

@@ -161,7 +161,7 @@ class PointIndex {
   PointIndex(int dim, double scale)
       : dim_(dim), cell_(kHashCellRel * scale), same_(kSameVertexRel * scale) {}
 
-  // Id of the stored point within the tolerance of x, or kNone.
+  // Id of the stored point within the tolerance of x, or no_index.
   std::uint32_t find(const double* x, const std::vector<double>& coords) const {
     std::vector<std::int64_t> cell(dim_), other(dim_);
     unsigned border = 0;
@@ -186,7 +186,7 @@ class PointIndex {
       }
       if (sub == 0) break;
     }
-    return kNone;
+    return no_index;
   }
 
   void insert(const double* x, std::uint32_t id) {
@@ -194,8 +194,6 @@ class PointIndex {
     for (int i = 0; i < dim_; ++i) key[i] = std::llround(x[i] / cell_);
     map_.emplace(hash(key), id);
   }
-
-  static constexpr std::uint32_t kNone = 0xffffffffu;
 
  private:
   static std::uint64_t hash(const std::vector<std::int64_t>& key) {
@@ -235,7 +233,7 @@ Orbit vertex_orbit(const Eigen::MatrixXd& roots, const Eigen::VectorXd& base,
       for (int i = 0; i < n; ++i) dot += x[i] * roots(g, i);
       for (int i = 0; i < n; ++i) image[i] = x[i] - 2.0 * dot * roots(g, i);
       std::uint32_t id = index.find(image.data(), coords);
-      if (id == PointIndex::kNone) {
+      if (id == no_index) {
         id = static_cast<std::uint32_t>(coords.size() / n);
         if (id >= kMaxVertices)
           throw InputError(name + " has more than " + std::to_string(kMaxVertices) + " vertices");
@@ -306,7 +304,7 @@ std::optional<std::vector<Eigen::VectorXd>> mirror_normals(const Eigen::MatrixXd
   std::vector<Eigen::VectorXd> out;
   auto add = [&](Eigen::VectorXd r) {
     if (r.dot(generic) < 0) r = -r;
-    if (index.find(r.data(), coords) != PointIndex::kNone) return;
+    if (index.find(r.data(), coords) != no_index) return;
     index.insert(r.data(), static_cast<std::uint32_t>(out.size()));
     coords.insert(coords.end(), r.data(), r.data() + n);
     out.push_back(std::move(r));

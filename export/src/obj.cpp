@@ -109,7 +109,7 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
   const Materials mats = opt.material_library.empty() ? Materials{} : materials(c);
   if (!mats.colors.empty()) out += "mtllib " + opt.material_library + "\n";
   const std::string* current_group = nullptr;
-  std::uint32_t current_material = 0xffffffffu;
+  std::uint32_t current_material = no_index;
   // Corner j of face f (its position in face_cycle(f)) is vertex v.
   auto corner = [&](std::uint32_t v, std::uint32_t f, std::size_t j) {
     out += ' ' + std::to_string(v + 1);
@@ -134,7 +134,7 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
     }
     throw InputError("OBJ: a triangle names a vertex outside its face");
   };
-  std::uint32_t current_object = 0xffffffffu;
+  std::uint32_t current_object = no_index;
   for (std::uint32_t f = 0; f < nf; ++f) {
     if (is_hole[f]) continue;
     if (object_of_face && (*object_of_face)[f] != current_object) {
@@ -146,13 +146,13 @@ std::string write(const Complex& c, const std::vector<std::string>* group_of_fac
       if (name.empty()) name = "object_" + std::to_string(current_object);
       out += "o " + name + "\n";
       current_group = nullptr;
-      current_material = 0xffffffffu;
+      current_material = no_index;
     }
     if (group_of_face && opt.group_by_source &&
         (!current_group || (*group_of_face)[f] != *current_group)) {
       current_group = &(*group_of_face)[f];
       out += "g " + *current_group + "\n";
-      current_material = 0xffffffffu;  // some readers reset the material per group
+      current_material = no_index;  // some readers reset the material per group
     }
     if (!mats.colors.empty() && mats.of_face[f] != current_material) {
       current_material = mats.of_face[f];

@@ -11,6 +11,7 @@
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
+#include "cw4d/complex/index.hpp"
 
 namespace cw4d::render {
 
@@ -242,8 +243,6 @@ glm::vec4 shade(const DrawState& d, const Attr& a, const ScreenTriangle& t) {
   }
   return glm::vec4(c, base.a);
 }
-
-constexpr std::uint32_t kNone = 0xffffffffu;
 
 // Edge k is opposite vertex k, from v[k+1] to v[k+2]: E_k = A x + B y + C > 0 inside, and
 // E_k(v_k) = twice the area. bias is -1 for edges that are not top or left: a sample exactly
@@ -521,7 +520,7 @@ Image Rasterizer::render() const {
     const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
     color.assign(samples, background);
     depth.assign(samples, 1.0f);
-    visible.assign(samples, kNone);
+    visible.assign(samples, no_index);
     bool pending = false;
 
     // Deferred shading of the opaque samples: each pixel shades each distinct triangle left
@@ -529,14 +528,14 @@ Image Rasterizer::render() const {
     auto flush = [&] {
       if (!pending) return;
       pending = false;
-      std::uint32_t cached_id = kNone;  // neighbouring samples mostly show the same triangle
+      std::uint32_t cached_id = no_index;  // neighbouring samples mostly show the same triangle
       Edges e{};
       for (int y = 0; y < th; ++y)
         for (int x = 0; x < tw; ++x) {
           const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
           for (int q = 0; q < spp; ++q) {
             const std::uint32_t id = visible[base + q];
-            if (id == kNone) continue;
+            if (id == no_index) continue;
             const ScreenTriangle& t = tris[id];
             if (id != cached_id) {
               e = edges_of(t);
@@ -550,7 +549,7 @@ Image Rasterizer::render() const {
             for (int q2 = q; q2 < spp; ++q2)
               if (visible[base + q2] == id) {
                 color[base + q2] = premul;
-                visible[base + q2] = kNone;
+                visible[base + q2] = no_index;
               }
           }
         }

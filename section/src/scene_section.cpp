@@ -95,6 +95,8 @@ Section merge_sections(const Scene& scene, const std::vector<Section>& pieces) {
   }
   out.complex.set_positions(std::move(positions));
   if (normals_ok && nfacets > 0) out.complex.set_facet_normals(std::move(normals));
+  assert(out.complex.well_formed() && out.vertex_source.size() == out.complex.count(0));
+  assert(out.object_of_face.size() == out.complex.count(2));
   return out;
 }
 

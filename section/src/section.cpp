@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -21,8 +22,6 @@
 namespace cw4d {
 
 namespace {
-
-constexpr std::uint32_t none = 0xffffffffu;
 
 struct Term {
   std::uint32_t id;
@@ -373,7 +372,7 @@ void Cutter::cut_edges() {
   img.offsets.reserve(ne + 1);
   // Section vertices that stand for a model vertex: one on the plane, or one that a crossing
   // point lies within the weld distance of. All their crossings become one section vertex.
-  std::vector<std::uint32_t> at_vertex(m_.count(0), none);
+  std::vector<std::uint32_t> at_vertex(m_.count(0), no_index);
   const auto& p = m_.positions();
   for (std::uint32_t e = 0; e < ne; ++e) {
     const auto [a, b] = m_.edge(e);
@@ -387,23 +386,23 @@ void Cutter::cut_edges() {
     std::uint32_t v;
     if (side_[a] == Side::On || side_[b] == Side::On) {
       const std::uint32_t on = side_[a] == Side::On ? a : b;
-      if (at_vertex[on] == none) at_vertex[on] = add_vertex(p.col(on), {on, 0, 0.0});
+      if (at_vertex[on] == no_index) at_vertex[on] = add_vertex(p.col(on), {on, 0, 0.0});
       v = at_vertex[on];
     } else {
       const double t = s_[a] / (s_[a] - s_[b]);
       const double len = (p.col(b) - p.col(a)).norm();
-      std::uint32_t near = none;
+      std::uint32_t near = no_index;
       if (t * len <= weld_)
         near = a;
       else if ((1.0 - t) * len <= weld_)
         near = b;
-      if (near != none && at_vertex[near] != none) {
+      if (near != no_index && at_vertex[near] != no_index) {
         v = at_vertex[near];
       } else {
         v = add_vertex((1.0 - t) * p.col(a) + t * p.col(b), {e, 1, t});
-        if (near != none) at_vertex[near] = v;
+        if (near != no_index) at_vertex[near] = v;
       }
-      if (near != none) degenerate_ = true;  // pieces may collapse: cancel them as chains
+      if (near != no_index) degenerate_ = true;  // pieces may collapse: cancel them as chains
     }
     const Term term{v, coef};
     img.push({&term, 1});
@@ -626,7 +625,7 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
   }
   std::vector<std::vector<std::uint32_t>> remap(otop + 1);
   for (int r = 0; r <= otop; ++r) {
-    remap[r].assign(keep[r].size(), none);
+    remap[r].assign(keep[r].size(), no_index);
     std::uint32_t next = 0;
     for (std::size_t i = 0; i < keep[r].size(); ++i)
       if (keep[r][i]) remap[r][i] = next++;
@@ -658,6 +657,29 @@ CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term
       if (facet_flip[f] && keep[ofr][f]) result.flip(ofr, remap[ofr][f]);
   sec.complex = std::move(result);
   return {std::move(sec), std::move(positions)};
+}
+
+// The invariants of a section of `model` (for assert()s): a well-formed complex one dimension
+// down, one vertex source per vertex naming a model vertex or edge, and per rank k >= 1 one
+// source per element naming a model element of rank k + 1.
+[[maybe_unused]] bool well_formed_section(const Section& sec, const Complex& model) {
+  const Complex& c = sec.complex;
+  if (!c.well_formed() || c.ambient_dim() != model.ambient_dim() - 1 ||
+      sec.vertex_source.size() != c.count(0))
+    return false;
+  for (const VertexSource& vs : sec.vertex_source)
+    if (vs.rank > 1 || vs.element >= model.count(vs.rank)) return false;
+  for (int r = 1; r <= c.top_rank(); ++r) {
+    if (static_cast<std::size_t>(r) >= sec.source.size()) {
+      if (c.count(r) > 0) return false;
+      continue;
+    }
+    const auto& src = sec.source[r];
+    if (src.size() != c.count(r)) return false;
+    for (auto x : src)
+      if (x >= model.count(r + 1)) return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -774,6 +796,7 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
     sec.complex.set_facet_normals(std::move(normals));
   }
   sec.self_intersecting = self_intersects(sec.complex);
+  assert(well_formed_section(sec, model));
   return sec;
 }
 
@@ -835,8 +858,10 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   scratch.slicer.slice(*compiled, plane, xf, scratch.buffers);
   // A convex polytope's section by a plane in general position (the fast path) is a convex
   // polytope whose faces are strictly convex polygons: nothing to test for self-intersection.
-  if (convex && !scratch.buffers.general) return to_section_untested(scratch.buffers);
-  return to_section(scratch.buffers);
+  Section sec = convex && !scratch.buffers.general ? to_section_untested(scratch.buffers)
+                                                   : to_section(scratch.buffers);
+  assert(well_formed_section(sec, model));
+  return sec;
 }
 
 Section section(const Complex& model, const Hyperplane& plane) {

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -110,6 +111,8 @@ bool loop_is_convex(const std::vector<Vec2>& pts) {
 // ear can be found (the caller fans the rest).
 bool clip_ears(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids, std::uint32_t face,
                std::vector<Triangle>& out) {
+  assert(pts.size() == ids.size());
+  [[maybe_unused]] const std::size_t corners = pts.size(), before = out.size();
   while (pts.size() > 3) {
     const std::size_t n = pts.size();
     std::vector<std::size_t> reflex;
@@ -145,6 +148,7 @@ bool clip_ears(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids, std::uin
     ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(ear));
   }
   if (pts.size() == 3) out.push_back({{ids[0], ids[1], ids[2]}, face});
+  assert(corners < 3 || out.size() - before == corners - 2);  // a k-gon gives k - 2 triangles
   pts.clear();
   ids.clear();
   return true;
@@ -196,6 +200,7 @@ bool bridge_hole(std::vector<Vec2>& pts, std::vector<std::uint32_t>& ids,
   }
   np.insert(np.end(), pts.begin() + static_cast<std::ptrdiff_t>(best), pts.end());
   ni.insert(ni.end(), ids.begin() + static_cast<std::ptrdiff_t>(best), ids.end());
+  assert(np.size() == pts.size() + hpts.size() + 2 && ni.size() == np.size());
   pts = std::move(np);
   ids = std::move(ni);
   return true;
@@ -260,9 +265,13 @@ std::vector<Triangle> ear_clip_triangulate(const Complex& complex,
   std::vector<Triangle> out;
   if (complex.top_rank() < 2) return out;
   const std::uint32_t nf = static_cast<std::uint32_t>(complex.count(2));
+  assert(holes.empty() || holes.size() == nf);
   std::vector<char> is_hole(nf, 0);
   for (const auto& list : holes)
-    for (auto h : list) is_hole[h] = 1;
+    for (auto h : list) {
+      assert(h < nf);
+      is_hole[h] = 1;
+    }
   for (std::uint32_t f = 0; f < nf; ++f) {
     if (is_hole[f]) continue;
     std::vector<std::uint32_t> ids = complex.face_cycle(f);
@@ -308,6 +317,11 @@ std::vector<Triangle> ear_clip_triangulate(const Complex& complex,
       }
     }
     if (usable) {
+      // Each bridge adds two corners (the copies of its ends): the clipper then gives
+      // k + sum(k_i) + 2h - 2 triangles for a k-gon with h holes of k_i corners.
+      [[maybe_unused]] std::size_t corners = complex.boundary(2).row_size(f);
+      for (const auto& h : hids) corners += h.size() + 2;
+      assert(pts.size() == corners && ids.size() == corners);
       const std::size_t before = out.size();
       if (clip_ears(pts, ids, f, out)) continue;
       out.resize(before);

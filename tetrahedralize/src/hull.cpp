@@ -42,7 +42,6 @@ using Triangulation = CGAL::Triangulation<
                    CGAL::Triangulation_full_cell<Kernel<D>, std::uint32_t>>>;
 
 using Ids = std::vector<std::uint32_t>;  // sorted point ids
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 struct Plane {
   Eigen::VectorXd normal;  // unit, outward
@@ -229,11 +228,11 @@ std::vector<Ids> hull_facets(const Eigen::MatrixXd& p, std::vector<HullSimplex>&
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return simplices[a].quality > simplices[b].quality;
   });
-  Ids group(simplices.size(), kNone);
+  Ids group(simplices.size(), no_index);
   std::vector<Plane> planes;
   std::vector<Ids> sets;
   for (std::uint32_t seed : order) {
-    if (group[seed] != kNone || simplices[seed].quality <= 0.0) continue;
+    if (group[seed] != no_index || simplices[seed].quality <= 0.0) continue;
     const auto g = static_cast<std::uint32_t>(planes.size());
     const Plane plane = simplices[seed].plane;
     planes.push_back(plane);
@@ -243,7 +242,7 @@ std::vector<Ids> hull_facets(const Eigen::MatrixXd& p, std::vector<HullSimplex>&
       const std::uint32_t s = stack.back();
       stack.pop_back();
       for (std::uint32_t nb : simplices[s].neighbours) {
-        if (group[nb] != kNone) continue;
+        if (group[nb] != no_index) continue;
         const bool on = std::all_of(
             simplices[nb].points.begin(), simplices[nb].points.end(),
             [&](std::uint32_t id) { return std::abs(plane.distance(p.col(id))) <= tol; });
@@ -405,7 +404,7 @@ Complex convex_hull(const Eigen::MatrixXd& input) {
     const std::vector<Ids> through = incidence(static_cast<std::size_t>(points.cols()), faces);
     std::map<Ids, std::uint32_t> index;
     below[k].resize(faces.size());
-    Ids stamp(faces.size(), kNone);
+    Ids stamp(faces.size(), no_index);
     for (std::uint32_t f = 0; f < faces.size(); ++f)
       for (std::uint32_t v : faces[f])
         for (std::uint32_t g : through[v]) {
@@ -428,7 +427,7 @@ Complex convex_hull(const Eigen::MatrixXd& input) {
   }
 
   // Renumber the vertices in input order.
-  Ids new_id(static_cast<std::size_t>(points.cols()), kNone);
+  Ids new_id(static_cast<std::size_t>(points.cols()), no_index);
   std::uint32_t n_vertices = 0;
   for (std::uint32_t id = 0; id < new_id.size(); ++id)
     if (is_vertex[id]) new_id[id] = n_vertices++;
@@ -436,7 +435,7 @@ Complex convex_hull(const Eigen::MatrixXd& input) {
   soup.ambient_dim = dim;
   soup.positions.resize(dim, n_vertices);
   for (std::uint32_t id = 0; id < new_id.size(); ++id)
-    if (new_id[id] != kNone) soup.positions.col(new_id[id]) = input.col(id);
+    if (new_id[id] != no_index) soup.positions.col(new_id[id]) = input.col(id);
   for (const Ids& face : level[2]) {
     Ids cycle = polygon_cycle(points, face, tol);
     for (auto& v : cycle) v = new_id[v];

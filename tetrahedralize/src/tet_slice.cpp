@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -447,7 +448,7 @@ Section to_section(const TetSection& slice, const Complex& model) {
           vs.rank = 1;
           const auto it_edge = model_edge.find({cp.a, cp.b});
           if (it_edge == model_edge.end()) {
-            vs.element = EdgeId::invalid_value;  // a diagonal of the tetrahedralization
+            vs.element = no_index;  // a diagonal of the tetrahedralization
             vs.t = cp.t;
           } else {
             vs.element = it_edge->second;
@@ -467,6 +468,7 @@ Section to_section(const TetSection& slice, const Complex& model) {
   BuildOptions opt;
   opt.orient = false;  // the triangles are oriented outward already
   sec.complex = build_complex(soup, opt);
+  assert(sec.complex.count(2) == slice.triangle_count() && sec.vertex_source.size() == pts.size());
   Eigen::MatrixXd normals(3, static_cast<Eigen::Index>(slice.triangle_count()));
   for (std::size_t i = 0; i < slice.triangle_count(); ++i)
     normals.col(static_cast<Eigen::Index>(i)) = slice.normals.col(static_cast<Eigen::Index>(3 * i));

@@ -493,7 +493,7 @@ class WebModel {
     std::vector<float> pos, nor, col, uvw;
     std::vector<std::uint32_t> cell, index;
     std::unordered_map<std::uint32_t, std::uint32_t> corner;  // vertex -> corner, per face
-    std::uint32_t face = static_cast<std::uint32_t>(-1);
+    std::uint32_t face = no_index;
     const bool has_normals = c.has_facet_normals() && n == 3;
     for (const Triangle& t : tris) {
       if (t.face != face) corner.clear(), face = t.face;

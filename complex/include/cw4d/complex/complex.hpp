@@ -21,12 +21,13 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
-#include "cw4d/complex/ids.hpp"
+#include "cw4d/complex/index.hpp"
 
 namespace cw4d {
 
@@ -36,7 +37,10 @@ class Incidence {
   std::size_t size() const { return offsets_.size() - 1; }
   bool empty() const { return size() == 0; }
   std::size_t entries() const { return ids_.size(); }
-  std::size_t row_size(std::size_t row) const { return offsets_[row + 1] - offsets_[row]; }
+  std::size_t row_size(std::size_t row) const {
+    assert(row < size());
+    return offsets_[row + 1] - offsets_[row];
+  }
   std::span<const std::uint32_t> ids(std::size_t row) const {
     return {ids_.data() + offsets_[row], row_size(row)};
   }
@@ -68,6 +72,12 @@ class Incidence {
     std::vector<std::int8_t>& signs;
   };
   Storage storage() { return {offsets_, ids_, signs_}; }
+
+  /// The table's own invariants: offsets start with 0, never decrease and end at entries() ==
+  /// signs' length, every id is below lower_count (the number of elements one rank down) and
+  /// every sign is +1 or -1. For assert()s on data cw4d built itself; validate() checks data
+  /// from outside and reports what is wrong.
+  bool well_formed(std::size_t lower_count) const;
 
  private:
   std::vector<std::uint32_t> offsets_{0};
@@ -118,12 +128,9 @@ class Complex {
 
   /// Edge e as (tail, head).
   std::array<std::uint32_t, 2> edge(std::uint32_t e) const {
+    assert(!boundaries_.empty() && boundaries_[0].row_size(e) == 2);
     auto ids = boundaries_[0].ids(e);
     return {ids[0], ids[1]};
-  }
-  std::array<VertexId, 2> edge(EdgeId e) const {
-    auto ids = edge(e.value);
-    return {VertexId(ids[0]), VertexId(ids[1])};
   }
   /// Appends an edge tail -> head and returns its id.
   std::uint32_t add_edge(std::uint32_t tail, std::uint32_t head);
@@ -148,6 +155,12 @@ class Complex {
     return facet_normals_.cols() > 0 &&
            static_cast<std::size_t>(facet_normals_.cols()) == count(facet_rank());
   }
+
+  /// The structural invariants of the data model (for assert()s, as Incidence::well_formed):
+  /// ambient_dim rows of positions, every table well formed against the rank below, every edge
+  /// row exactly [tail, head] with signs [-1, +1], every face row one closed walk (the head of
+  /// each signed edge is the tail of the next; in R^2, where rank 2 is the solid, not checked).
+  bool well_formed() const;
 
   /// Optional colors of the elements of a rank (empty vector = no colors).
   const std::vector<Rgba>& colors(int rank) const;

@@ -76,7 +76,7 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 /// triangles with welded vertices, source cells in source[2], facet normals (the projected cell
 /// normals), so every section writer can write it. vertex_source: rank 0 for a model vertex (or
 /// a Steiner point id >= model.count(0)); rank 1 with the model edge and its t for crossings of
-/// model edges, and element EdgeId::invalid_value (t along the tetrahedron edge) for crossings of
+/// model edges, and element no_index (t along the tetrahedron edge) for crossings of
 /// the diagonals the tetrahedralization added: consumers that look up model edges must skip
 /// those (section_uvw cannot be used on it; the slice carries its own uvw).
 Section to_section(const TetSection& slice, const Complex& model);
