@@ -6,8 +6,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <thread>
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -268,12 +273,15 @@ Edges edges_of(const ScreenTriangle& t) {
   return e;
 }
 
-// Perspective-correct attributes at the fixed-point sample (X, Y), shaded.
-glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, std::int64_t X,
-                   std::int64_t Y) {
-  float b[3];
+// Barycentric weights of the fixed-point sample (X, Y): the edge functions, exact in integers,
+// scaled by 1 / (twice the area).
+void barycentrics(const Edges& e, std::int64_t X, std::int64_t Y, float b[3]) {
   for (int k = 0; k < 3; ++k)
     b[k] = static_cast<float>(static_cast<double>(e.A[k] * X + e.B[k] * Y + e.C[k]) * e.inv_area);
+}
+
+// Perspective-correct attributes at the barycentric weights b, shaded.
+glm::vec4 shade_bary(const DrawState& d, const ScreenTriangle& t, const float b[3]) {
   const float inv_w = b[0] * t.inv_w[0] + b[1] * t.inv_w[1] + b[2] * t.inv_w[2];
   const float wgt = inv_w != 0.0f ? 1.0f / inv_w : 0.0f;
   Attr a;
@@ -284,6 +292,139 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
   if (t.texture) a.uvw = (b[0] * t.attr[0].uvw + b[1] * t.attr[1].uvw + b[2] * t.attr[2].uvw) * wgt;
   return shade(d, a, t);
 }
+
+// Perspective-correct attributes at the fixed-point sample (X, Y), shaded.
+glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, std::int64_t X,
+                   std::int64_t Y) {
+  float b[3];
+  barycentrics(e, X, Y, b);
+  return shade_bary(d, t, b);
+}
+
+// Eight samples of one triangle shaded at once with AVX (x86-64, chosen at run time). It
+// evaluates shade_bary's very operations in the same order, without fused multiply-adds (the
+// function is compiled for AVX2 only, not FMA), and calls the same std::pow for the specular
+// lanes, so every lane is bit for bit the scalar result: the picture does not depend on the
+// path. Covers untextured triangles lit in 3D or unlit; the rest goes through shade_bary.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define CW4D_RASTER_SIMD 1
+#define CW4D_AVX2 __attribute__((target("avx2")))
+typedef float v8f __attribute__((vector_size(32)));
+typedef int v8i __attribute__((vector_size(32)));
+
+struct V3 {
+  v8f x, y, z;
+};
+
+CW4D_AVX2 inline v8f splat(float f) {
+  return v8f{f, f, f, f, f, f, f, f};
+}
+CW4D_AVX2 inline v8f vsqrt(v8f x) {
+  return reinterpret_cast<v8f>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x)));
+}
+CW4D_AVX2 inline v8f dot3(const V3& a, const V3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+// (b0 a0 + b1 a1 + b2 a2) w, as glm evaluates it for one component.
+CW4D_AVX2 inline v8f interp3(const v8f* B, float a0, float a1, float a2, v8f wgt) {
+  return (B[0] * a0 + B[1] * a1 + B[2] * a2) * wgt;
+}
+CW4D_AVX2 inline v8f pick(v8i mask, v8f a, v8f b) {
+  return mask ? a : b;
+}
+
+bool simd_available() {
+  static const bool ok = __builtin_cpu_supports("avx2");
+  return ok;
+}
+
+bool simd_shadable(const DrawState& d, const ScreenTriangle& t) {
+  return !t.texture && (d.options.shading == Shading::Unlit || !d.lighting.four_d);
+}
+
+// b: three rows of eight barycentric weights; out: eight unpremultiplied colors.
+CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const float (&b)[3][8],
+                      glm::vec4* out) {
+  v8f B[3];
+  std::memcpy(&B[0], b[0], sizeof(v8f));
+  std::memcpy(&B[1], b[1], sizeof(v8f));
+  std::memcpy(&B[2], b[2], sizeof(v8f));
+  const v8f zero = splat(0.0f);
+  const v8f inv_w = B[0] * t.inv_w[0] + B[1] * t.inv_w[1] + B[2] * t.inv_w[2];
+  const v8f wgt = pick(inv_w != zero, splat(1.0f) / inv_w, zero);
+  const Attr &a0 = t.attr[0], &a1 = t.attr[1], &a2 = t.attr[2];
+  const v8f base[4] = {interp3(B, a0.color.r, a1.color.r, a2.color.r, wgt),
+                       interp3(B, a0.color.g, a1.color.g, a2.color.g, wgt),
+                       interp3(B, a0.color.b, a1.color.b, a2.color.b, wgt),
+                       interp3(B, a0.color.a, a1.color.a, a2.color.a, wgt)};
+  v8f rgb[3] = {base[0], base[1], base[2]};
+  if (d.options.shading != Shading::Unlit) {
+    const V3 p{interp3(B, a0.position.x, a1.position.x, a2.position.x, wgt),
+               interp3(B, a0.position.y, a1.position.y, a2.position.y, wgt),
+               interp3(B, a0.position.z, a1.position.z, a2.position.z, wgt)};
+    V3 n{interp3(B, a0.normal.x, a1.normal.x, a2.normal.x, wgt),
+         interp3(B, a0.normal.y, a1.normal.y, a2.normal.y, wgt),
+         interp3(B, a0.normal.z, a1.normal.z, a2.normal.z, wgt)};
+    const v8f nn = dot3(n, n);
+    const v8i lit = ~(nn <= zero);  // unlit lanes (zero normal) keep the base color
+    const v8f inv_len = splat(1.0f) / vsqrt(nn);
+    n = {n.x * inv_len, n.y * inv_len, n.z * inv_len};
+    const View& view = d.view;
+    V3 v{splat(-view.forward.x), splat(-view.forward.y), splat(-view.forward.z)};
+    if (!view.orthographic) {
+      const V3 to{splat(view.eye.x) - p.x, splat(view.eye.y) - p.y, splat(view.eye.z) - p.z};
+      const v8f len = vsqrt(dot3(to, to));
+      const v8i ok = len > zero;
+      v = {pick(ok, to.x / len, v.x), pick(ok, to.y / len, v.y), pick(ok, to.z / len, v.z)};
+    }
+    const v8i flip = dot3(n, v) < zero;
+    n = {pick(flip, -n.x, n.x), pick(flip, -n.y, n.y), pick(flip, -n.z, n.z)};
+    const Lighting& lit_rig = d.lighting;
+    v8f c[3] = {lit_rig.ambient.x * base[0], lit_rig.ambient.y * base[1],
+                lit_rig.ambient.z * base[2]};
+    for (const Light& light : lit_rig.lights) {
+      V3 l{splat(light.vector.x), splat(light.vector.y), splat(light.vector.z)};
+      v8f intensity = splat(1.0f);
+      if (light.kind == Light::Kind::Point) {
+        l = {l.x - p.x, l.y - p.y, l.z - p.z};
+        const v8f d2 = dot3(l, l);
+        intensity = splat(1.0f) / (splat(1.0f) + light.attenuation * d2);
+      }
+      const v8f len = vsqrt(dot3(l, l));
+      v8i on = len > zero;
+      l = {l.x / len, l.y / len, l.z / len};
+      const v8f diffuse = dot3(n, l);
+      on &= diffuse > zero;
+      if (!_mm256_movemask_ps(reinterpret_cast<__m256>(on))) continue;
+      V3 h{l.x + v.x, l.y + v.y, l.z + v.z};
+      const v8f inv_h = splat(1.0f) / vsqrt(dot3(h, h));
+      h = {h.x * inv_h, h.y * inv_h, h.z * inv_h};
+      const v8f nh = dot3(n, h);
+      const v8i highlight = on & (nh > d.specular_cutoff);
+      v8f spec = zero;
+      if (const int bits = _mm256_movemask_ps(reinterpret_cast<__m256>(highlight))) {
+        float nh_lane[8], spec_lane[8];
+        std::memcpy(nh_lane, &nh, sizeof nh_lane);
+        for (int i = 0; i < 8; ++i)
+          spec_lane[i] = (bits >> i) & 1 ? lit_rig.specular * std::pow(std::max(nh_lane[i], 0.0f),
+                                                                       lit_rig.shininess)
+                                         : 0.0f;
+        std::memcpy(&spec, spec_lane, sizeof spec);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const v8f term = (intensity * light.color[k]) * (base[k] * diffuse + spec);
+        c[k] = pick(on, c[k] + term, c[k]);
+      }
+    }
+    for (int k = 0; k < 3; ++k) rgb[k] = pick(lit, c[k], base[k]);
+  }
+  float lanes[4][8];
+  for (int k = 0; k < 3; ++k) std::memcpy(lanes[k], &rgb[k], sizeof lanes[k]);
+  std::memcpy(lanes[3], &base[3], sizeof lanes[3]);
+  for (int i = 0; i < 8; ++i)
+    out[i] = glm::vec4(lanes[0][i], lanes[1][i], lanes[2][i], lanes[3][i]);
+}
+#endif
 
 }  // namespace
 
@@ -502,6 +643,9 @@ Image Rasterizer::render() const {
       off_x[j * s + i] = ((2 * i + 1) * kSubpixel) / (2 * s);
       off_y[j * s + i] = ((2 * j + 1) * kSubpixel) / (2 * s);
     }
+#ifdef CW4D_RASTER_SIMD
+  const bool simd = simd_available();
+#endif
 
   Image out(width, height);
   const glm::vec4 background = options_.background;
@@ -515,55 +659,112 @@ Image Rasterizer::render() const {
         for (int x = 0; x < tw; ++x) out.at(tx0 + x, ty0 + y) = background;
       return;
     }
+    struct Entry {
+      std::uint32_t slot;  // (y * kTile + x) * spp + the first sample showing the triangle
+      std::uint32_t mask;  // every sample of the pixel showing it
+      std::uint32_t id;    // the triangle's position in the bin
+    };
     thread_local std::vector<glm::vec4> color;
     thread_local std::vector<float> depth;
-    thread_local std::vector<std::uint32_t> visible;  // opaque triangle per sample, not shaded yet
+    // Opaque triangle per sample, not shaded yet, as its position in this tile's bin.
+    thread_local std::vector<std::uint32_t> visible;
+    thread_local std::vector<Edges> edges;  // per bin position
+    thread_local std::vector<std::uint32_t> first, cursor;
+    thread_local std::vector<Entry> found, sorted;
     const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
     color.assign(samples, background);
     depth.assign(samples, 1.0f);
     visible.assign(samples, kNone);
+    edges.resize(bin.size());
     bool pending = false;
 
+    auto sample_xy = [&](std::uint32_t slot, std::int64_t& X, std::int64_t& Y) {
+      const int pixel = static_cast<int>(slot / spp), q = static_cast<int>(slot % spp);
+      X = static_cast<std::int64_t>(tx0 + pixel % kTile) * kSubpixel + off_x[q];
+      Y = static_cast<std::int64_t>(ty0 + pixel / kTile) * kSubpixel + off_y[q];
+    };
+    auto store = [&](const Entry& en, const glm::vec4& c) {
+      const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+      const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+      const std::size_t base = en.slot - en.slot % spp;
+      for (std::uint32_t m = en.mask; m; m &= m - 1)
+        color[base + static_cast<unsigned>(__builtin_ctz(m))] = premul;
+    };
+
     // Deferred shading of the opaque samples: each pixel shades each distinct triangle left
-    // visible in it once (at its first sample), so hidden fragments cost no lighting.
+    // visible in it once (at its first sample), so hidden fragments cost no lighting. The
+    // samples to shade are grouped by triangle (a counting sort), so that eight samples of one
+    // triangle are shaded at once where the SIMD path applies.
     auto flush = [&] {
       if (!pending) return;
       pending = false;
-      std::uint32_t cached_id = kNone;  // neighbouring samples mostly show the same triangle
-      Edges e{};
+      found.clear();
+      first.assign(bin.size() + 1, 0);
       for (int y = 0; y < th; ++y)
         for (int x = 0; x < tw; ++x) {
           const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
           for (int q = 0; q < spp; ++q) {
             const std::uint32_t id = visible[base + q];
             if (id == kNone) continue;
-            const ScreenTriangle& t = tris[id];
-            if (id != cached_id) {
-              e = edges_of(t);
-              cached_id = id;
-            }
-            const std::int64_t X = static_cast<std::int64_t>(tx0 + x) * kSubpixel + off_x[q];
-            const std::int64_t Y = static_cast<std::int64_t>(ty0 + y) * kSubpixel + off_y[q];
-            const glm::vec4 c = shade_at(draws[t.draw], t, e, X, Y);
-            const float alpha = std::clamp(c.a, 0.0f, 1.0f);
-            const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+            std::uint32_t mask = 0;
             for (int q2 = q; q2 < spp; ++q2)
               if (visible[base + q2] == id) {
-                color[base + q2] = premul;
+                mask |= 1u << q2;
                 visible[base + q2] = kNone;
               }
+            found.push_back({static_cast<std::uint32_t>(base + q), mask, id});
+            ++first[id + 1];
           }
         }
+      for (std::size_t j = 0; j < bin.size(); ++j) first[j + 1] += first[j];
+      sorted.resize(found.size());
+      cursor.assign(first.begin(), first.end() - 1);
+      for (const Entry& en : found) sorted[cursor[en.id]++] = en;
+      for (std::size_t j = 0; j < bin.size(); ++j) {
+        const std::uint32_t begin = first[j], end = first[j + 1];
+        if (begin == end) continue;
+        const ScreenTriangle& t = tris[bin[j]];
+        const DrawState& d = draws[t.draw];
+        const Edges& e = edges[j];
+        std::uint32_t k = begin;
+#ifdef CW4D_RASTER_SIMD
+        if (simd && simd_shadable(d, t)) {
+          for (; k < end; k += 8) {
+            const std::uint32_t n = std::min<std::uint32_t>(8, end - k);
+            float b[3][8];
+            for (std::uint32_t i = 0; i < 8; ++i) {
+              std::int64_t X, Y;
+              sample_xy(sorted[k + std::min(i, n - 1)].slot, X, Y);
+              float bi[3];
+              barycentrics(e, X, Y, bi);
+              for (int c = 0; c < 3; ++c) b[c][i] = bi[c];
+            }
+            glm::vec4 c[8];
+            shade8(d, t, b, c);
+            for (std::uint32_t i = 0; i < n; ++i) store(sorted[k + i], c[i]);
+          }
+        }
+#endif
+        for (; k < end; ++k) {
+          std::int64_t X, Y;
+          sample_xy(sorted[k].slot, X, Y);
+          store(sorted[k], shade_at(d, t, e, X, Y));
+        }
+      }
     };
 
     std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
-    for (std::uint32_t ti : bin) {
-      const ScreenTriangle& t = tris[ti];
+    std::vector<double> z_sample(spp);
+    for (std::uint32_t j = 0; j < bin.size(); ++j) {
+      const ScreenTriangle& t = tris[bin[j]];
       const DrawState& d = draws[t.draw];
       const bool test = d.options.depth_test, write = d.options.depth_write;
       const bool over = d.options.blend == Blend::Over;
+      const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
+      const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
+      if (px0 > px1 || py0 > py1) continue;
       if (over) flush();  // blending needs the colors underneath
-      const Edges e = edges_of(t);
+      const Edges& e = edges[j] = edges_of(t);
       for (int k = 0; k < 3; ++k)
         for (int q = 0; q < spp; ++q)
           edge_sample[k * spp + q] = e.A[k] * off_x[q] + e.B[k] * off_y[q];
@@ -571,11 +772,13 @@ Image Rasterizer::render() const {
       for (int k = 0; k < 3; ++k)
         max_offset[k] =
             *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
-      const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
-      const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
-      if (px0 > px1 || py0 > py1) continue;
       const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel,
                          step2 = e.A[2] * kSubpixel;
+      // Depth along a row, stepped in double from its exact value at the span's first pixel.
+      const double z_step =
+          (static_cast<double>(step0) * t.z[0] + static_cast<double>(step1) * t.z[1] +
+           static_cast<double>(step2) * t.z[2]) *
+          e.inv_area;
       for (int py = py0; py <= py1; ++py) {
         const std::int64_t Y = static_cast<std::int64_t>(py) * kSubpixel;
         const std::int64_t X0 = static_cast<std::int64_t>(px0) * kSubpixel;
@@ -604,32 +807,37 @@ Image Rasterizer::render() const {
         e0 += step0 * (lo - px0);
         e1 += step1 * (lo - px0);
         e2 += step2 * (lo - px0);
+        for (int q = 0; q < spp; ++q) {
+          const double l0 = static_cast<double>(e0 + edge_sample[q] - e.bias[0]) * e.inv_area;
+          const double l1 = static_cast<double>(e1 + edge_sample[spp + q] - e.bias[1]) * e.inv_area;
+          const double l2 =
+              static_cast<double>(e2 + edge_sample[2 * spp + q] - e.bias[2]) * e.inv_area;
+          z_sample[q] = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
+        }
         for (int px = lo; px <= hi; ++px, e0 += step0, e1 += step1, e2 += step2) {
           const std::size_t base = (static_cast<std::size_t>(py - ty0) * kTile + (px - tx0)) * spp;
+          const double dz = z_step * (px - lo);
           unsigned mask = 0;
-          int first = -1;
+          int first_q = -1;
           for (int q = 0; q < spp; ++q) {
             const std::int64_t w0 = e0 + edge_sample[q], w1 = e1 + edge_sample[spp + q],
                                w2 = e2 + edge_sample[2 * spp + q];
             if ((w0 | w1 | w2) < 0) continue;
-            const double l0 = static_cast<double>(w0 - e.bias[0]) * e.inv_area;
-            const double l1 = static_cast<double>(w1 - e.bias[1]) * e.inv_area;
-            const double l2 = static_cast<double>(w2 - e.bias[2]) * e.inv_area;
-            const float z = static_cast<float>(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
+            const float z = static_cast<float>(z_sample[q] + dz);
             if (test && !(z < depth[base + q])) continue;
             mask |= 1u << q;
             if (write) depth[base + q] = z;
-            if (first < 0) first = q;
+            if (first_q < 0) first_q = q;
           }
           if (!mask) continue;
           if (!over) {
             for (int q = 0; q < spp; ++q)
-              if (mask & (1u << q)) visible[base + q] = ti;
+              if (mask & (1u << q)) visible[base + q] = j;
             pending = true;
             continue;
           }
-          const std::int64_t X = static_cast<std::int64_t>(px) * kSubpixel + off_x[first];
-          const std::int64_t Ys = Y + off_y[first];
+          const std::int64_t X = static_cast<std::int64_t>(px) * kSubpixel + off_x[first_q];
+          const std::int64_t Ys = Y + off_y[first_q];
           const glm::vec4 c = shade_at(d, t, e, X, Ys);
           const float alpha = std::clamp(c.a, 0.0f, 1.0f);
           const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
@@ -643,6 +851,10 @@ Image Rasterizer::render() const {
     for (int y = 0; y < th; ++y)
       for (int x = 0; x < tw; ++x) {
         const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
+        if (spp == 1) {
+          out.at(tx0 + x, ty0 + y) = color[base];
+          continue;
+        }
         glm::vec4 sum(0.0f);
         for (int q = 0; q < spp; ++q) sum += color[base + q];
         out.at(tx0 + x, ty0 + y) = sum * inv_spp;
