@@ -311,6 +311,7 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
 #define CW4D_AVX2 __attribute__((target("avx2")))
 typedef float v8f __attribute__((vector_size(32)));
 typedef int v8i __attribute__((vector_size(32)));
+typedef double v4d __attribute__((vector_size(32)));
 
 struct V3 {
   v8f x, y, z;
@@ -342,9 +343,24 @@ bool simd_shadable(const DrawState& d, const ScreenTriangle& t) {
   return !t.texture && (d.options.shading == Shading::Unlit || !d.lighting.four_d);
 }
 
-// b: three rows of eight barycentric weights; out: eight unpremultiplied colors.
-CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const float (&b)[3][8],
-                      glm::vec4* out) {
+// Eight samples (X, Y) of one triangle (fixed point, exact in double: below 2^23 each, so the
+// edge functions below 2^47) shaded into eight unpremultiplied colors.
+CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const Edges& e,
+                      const double (&X)[8], const double (&Y)[8], glm::vec4* out) {
+  // The barycentrics as barycentrics() computes them: the integer edge function (exact here
+  // too), times 1 / area in double, rounded to float.
+  float b[3][8];
+  for (int h = 0; h < 8; h += 4) {
+    v4d x, y;
+    std::memcpy(&x, X + h, sizeof x);
+    std::memcpy(&y, Y + h, sizeof y);
+    for (int k = 0; k < 3; ++k) {
+      const v4d edge = static_cast<double>(e.A[k]) * x + static_cast<double>(e.B[k]) * y +
+                       static_cast<double>(e.C[k]);
+      const __m128 f = _mm256_cvtpd_ps(reinterpret_cast<__m256d>(edge * e.inv_area));
+      std::memcpy(&b[k][h], &f, sizeof f);
+    }
+  }
   v8f B[3];
   std::memcpy(&B[0], b[0], sizeof(v8f));
   std::memcpy(&B[1], b[1], sizeof(v8f));
@@ -660,9 +676,10 @@ Image Rasterizer::render() const {
       return;
     }
     struct Entry {
-      std::uint32_t slot;  // (y * kTile + x) * spp + the first sample showing the triangle
-      std::uint32_t mask;  // every sample of the pixel showing it
-      std::uint32_t id;    // the triangle's position in the bin
+      std::uint16_t pixel;  // y * kTile + x in the tile
+      std::uint16_t q;      // the first sample showing the triangle
+      std::uint32_t mask;   // every sample of the pixel showing it
+      std::uint32_t id;     // the triangle's position in the bin
     };
     thread_local std::vector<glm::vec4> color;
     thread_local std::vector<float> depth;
@@ -678,15 +695,14 @@ Image Rasterizer::render() const {
     edges.resize(bin.size());
     bool pending = false;
 
-    auto sample_xy = [&](std::uint32_t slot, std::int64_t& X, std::int64_t& Y) {
-      const int pixel = static_cast<int>(slot / spp), q = static_cast<int>(slot % spp);
-      X = static_cast<std::int64_t>(tx0 + pixel % kTile) * kSubpixel + off_x[q];
-      Y = static_cast<std::int64_t>(ty0 + pixel / kTile) * kSubpixel + off_y[q];
+    auto sample_xy = [&](const Entry& en, std::int64_t& X, std::int64_t& Y) {
+      X = static_cast<std::int64_t>(tx0 + en.pixel % kTile) * kSubpixel + off_x[en.q];
+      Y = static_cast<std::int64_t>(ty0 + en.pixel / kTile) * kSubpixel + off_y[en.q];
     };
     auto store = [&](const Entry& en, const glm::vec4& c) {
       const float alpha = std::clamp(c.a, 0.0f, 1.0f);
       const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
-      const std::size_t base = en.slot - en.slot % spp;
+      const std::size_t base = static_cast<std::size_t>(en.pixel) * spp;
       for (std::uint32_t m = en.mask; m; m &= m - 1)
         color[base + static_cast<unsigned>(__builtin_ctz(m))] = premul;
     };
@@ -712,7 +728,8 @@ Image Rasterizer::render() const {
                 mask |= 1u << q2;
                 visible[base + q2] = kNone;
               }
-            found.push_back({static_cast<std::uint32_t>(base + q), mask, id});
+            found.push_back({static_cast<std::uint16_t>(y * kTile + x),
+                             static_cast<std::uint16_t>(q), mask, id});
             ++first[id + 1];
           }
         }
@@ -731,23 +748,22 @@ Image Rasterizer::render() const {
         if (simd && simd_shadable(d, t)) {
           for (; k < end; k += 8) {
             const std::uint32_t n = std::min<std::uint32_t>(8, end - k);
-            float b[3][8];
+            double X[8], Y[8];
             for (std::uint32_t i = 0; i < 8; ++i) {
-              std::int64_t X, Y;
-              sample_xy(sorted[k + std::min(i, n - 1)].slot, X, Y);
-              float bi[3];
-              barycentrics(e, X, Y, bi);
-              for (int c = 0; c < 3; ++c) b[c][i] = bi[c];
+              std::int64_t x, y;
+              sample_xy(sorted[k + std::min(i, n - 1)], x, y);
+              X[i] = static_cast<double>(x);
+              Y[i] = static_cast<double>(y);
             }
             glm::vec4 c[8];
-            shade8(d, t, b, c);
+            shade8(d, t, e, X, Y, c);
             for (std::uint32_t i = 0; i < n; ++i) store(sorted[k + i], c[i]);
           }
         }
 #endif
         for (; k < end; ++k) {
           std::int64_t X, Y;
-          sample_xy(sorted[k].slot, X, Y);
+          sample_xy(sorted[k], X, Y);
           store(sorted[k], shade_at(d, t, e, X, Y));
         }
       }
@@ -813,6 +829,22 @@ Image Rasterizer::render() const {
           const double l2 =
               static_cast<double>(e2 + edge_sample[2 * spp + q] - e.bias[2]) * e.inv_area;
           z_sample[q] = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
+        }
+        if (spp == 1 && !over) {  // the common case, without the loop over samples
+          const std::size_t row = static_cast<std::size_t>(py - ty0) * kTile - tx0;
+          bool any = false;
+          std::int64_t w0 = e0 + edge_sample[0], w1 = e1 + edge_sample[1], w2 = e2 + edge_sample[2];
+          for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
+            if ((w0 | w1 | w2) < 0) continue;
+            const std::size_t at = row + px;
+            const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
+            if (test && !(z < depth[at])) continue;
+            if (write) depth[at] = z;
+            visible[at] = j;
+            any = true;
+          }
+          pending |= any;
+          continue;
         }
         for (int px = lo; px <= hi; ++px, e0 += step0, e1 += step1, e2 += step2) {
           const std::size_t base = (static_cast<std::size_t>(py - ty0) * kTile + (px - tx0)) * spp;
