@@ -67,13 +67,39 @@ struct DrawState {
   Lighting lighting;
   DrawOptions options;
   float specular_cutoff = 0.0f;  // below this N.H the highlight is under 1e-3: not computed
+  int integer_shininess = 0;     // the shininess when it is a whole number 1..1024, else 0
 };
 
 DrawState make_state(const View& view, const Lighting& lighting, const DrawOptions& options) {
-  DrawState d{view, lighting, options, 0.0f};
+  DrawState d{view, lighting, options, 0.0f, 0};
   if (options.blend == Blend::Over) d.options.depth_write = false;
   if (lighting.shininess > 0.0f) d.specular_cutoff = std::exp(std::log(1e-3f) / lighting.shininess);
+  if (lighting.shininess >= 1.0f && lighting.shininess <= 1024.0f &&
+      lighting.shininess == std::floor(lighting.shininess))
+    d.integer_shininess = static_cast<int>(lighting.shininess);
   return d;
+}
+
+// x^n by repeated squaring (n >= 1): within a few ulps of std::pow, and the same sequence of
+// float products in the scalar and the SIMD path.
+template <class T>
+T integer_power(T x, int n) {
+  T result = x;
+  bool first = true;
+  for (;;) {
+    if (n & 1) {
+      result = first ? x : result * x;
+      first = false;
+    }
+    n >>= 1;
+    if (!n) return result;
+    x = x * x;
+  }
+}
+
+float specular_power(const DrawState& d, float nh) {
+  return d.integer_shininess ? integer_power(nh, d.integer_shininess)
+                             : std::pow(nh, d.lighting.shininess);
 }
 
 // Inside when >= 0: the six frustum planes of OpenGL clip space.
@@ -197,7 +223,7 @@ glm::vec3 blinn_phong(const DrawState& d, const glm::vec4& base, const Vec& n, c
   const float nh = glm::dot(n, h);
   const Lighting& lit = d.lighting;
   const float spec =
-      nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
+      nh > d.specular_cutoff ? lit.specular * specular_power(d, std::max(nh, 0.0f)) : 0.0f;
   return intensity * color * (glm::vec3(base) * diffuse + glm::vec3(spec));
 }
 
@@ -303,9 +329,10 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
 
 // Eight samples of one triangle shaded at once with AVX (x86-64, chosen at run time). It
 // evaluates shade_bary's very operations in the same order, without fused multiply-adds (the
-// function is compiled for AVX2 only, not FMA), and calls the same std::pow for the specular
-// lanes, so every lane is bit for bit the scalar result: the picture does not depend on the
-// path. Covers untextured triangles lit in 3D or unlit; the rest goes through shade_bary.
+// function is compiled for AVX2 only, not FMA), and the same power for the specular lanes
+// (integer_power, or std::pow lane by lane), so every lane is bit for bit the scalar result:
+// the picture does not depend on the path. Covers untextured triangles lit in 3D or unlit; the rest
+// goes through shade_bary.
 #if defined(__GNUC__) && defined(__x86_64__)
 #define CW4D_RASTER_SIMD 1
 #define CW4D_AVX2 __attribute__((target("avx2")))
@@ -332,6 +359,21 @@ CW4D_AVX2 inline v8f interp3(const v8f* B, float a0, float a1, float a2, v8f wgt
 }
 CW4D_AVX2 inline v8f pick(v8i mask, v8f a, v8f b) {
   return mask ? a : b;
+}
+
+// integer_power for eight lanes (the same products).
+CW4D_AVX2 inline v8f integer_power8(v8f x, int n) {
+  v8f result = x;
+  bool first = true;
+  for (;;) {
+    if (n & 1) {
+      result = first ? x : result * x;
+      first = false;
+    }
+    n >>= 1;
+    if (!n) return result;
+    x = x * x;
+  }
 }
 
 bool simd_available() {
@@ -419,13 +461,18 @@ CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const Edges& 
       const v8i highlight = on & (nh > d.specular_cutoff);
       v8f spec = zero;
       if (const int bits = _mm256_movemask_ps(reinterpret_cast<__m256>(highlight))) {
-        float nh_lane[8], spec_lane[8];
-        std::memcpy(nh_lane, &nh, sizeof nh_lane);
-        for (int i = 0; i < 8; ++i)
-          spec_lane[i] = (bits >> i) & 1 ? lit_rig.specular * std::pow(std::max(nh_lane[i], 0.0f),
-                                                                       lit_rig.shininess)
-                                         : 0.0f;
-        std::memcpy(&spec, spec_lane, sizeof spec);
+        if (d.integer_shininess) {
+          const v8f x = pick(nh > zero, nh, zero);
+          spec = pick(highlight, lit_rig.specular * integer_power8(x, d.integer_shininess), zero);
+        } else {
+          float nh_lane[8], spec_lane[8];
+          std::memcpy(nh_lane, &nh, sizeof nh_lane);
+          for (int i = 0; i < 8; ++i)
+            spec_lane[i] = (bits >> i) & 1 ? lit_rig.specular * std::pow(std::max(nh_lane[i], 0.0f),
+                                                                         lit_rig.shininess)
+                                           : 0.0f;
+          std::memcpy(&spec, spec_lane, sizeof spec);
+        }
       }
       for (int k = 0; k < 3; ++k) {
         const v8f term = (intensity * light.color[k]) * (base[k] * diffuse + spec);
@@ -434,9 +481,14 @@ CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const Edges& 
     }
     for (int k = 0; k < 3; ++k) rgb[k] = pick(lit, c[k], base[k]);
   }
+  // Premultiplied as the scalar path's store does: alpha = clamp(a, 0, 1).
+  const v8f alpha = pick(base[3] < zero, zero, pick(splat(1.0f) < base[3], splat(1.0f), base[3]));
   float lanes[4][8];
-  for (int k = 0; k < 3; ++k) std::memcpy(lanes[k], &rgb[k], sizeof lanes[k]);
-  std::memcpy(lanes[3], &base[3], sizeof lanes[3]);
+  for (int k = 0; k < 3; ++k) {
+    const v8f premul = rgb[k] * alpha;
+    std::memcpy(lanes[k], &premul, sizeof lanes[k]);
+  }
+  std::memcpy(lanes[3], &alpha, sizeof lanes[3]);
   for (int i = 0; i < 8; ++i)
     out[i] = glm::vec4(lanes[0][i], lanes[1][i], lanes[2][i], lanes[3][i]);
 }
@@ -699,9 +751,7 @@ Image Rasterizer::render() const {
       X = static_cast<std::int64_t>(tx0 + en.pixel % kTile) * kSubpixel + off_x[en.q];
       Y = static_cast<std::int64_t>(ty0 + en.pixel / kTile) * kSubpixel + off_y[en.q];
     };
-    auto store = [&](const Entry& en, const glm::vec4& c) {
-      const float alpha = std::clamp(c.a, 0.0f, 1.0f);
-      const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+    auto store_premul = [&](const Entry& en, const glm::vec4& premul) {
       const std::size_t base = static_cast<std::size_t>(en.pixel) * spp;
       for (std::uint32_t m = en.mask; m; m &= m - 1)
         color[base + static_cast<unsigned>(__builtin_ctz(m))] = premul;
@@ -757,14 +807,16 @@ Image Rasterizer::render() const {
             }
             glm::vec4 c[8];
             shade8(d, t, e, X, Y, c);
-            for (std::uint32_t i = 0; i < n; ++i) store(sorted[k + i], c[i]);
+            for (std::uint32_t i = 0; i < n; ++i) store_premul(sorted[k + i], c[i]);
           }
         }
 #endif
         for (; k < end; ++k) {
           std::int64_t X, Y;
           sample_xy(sorted[k], X, Y);
-          store(sorted[k], shade_at(d, t, e, X, Y));
+          const glm::vec4 c = shade_at(d, t, e, X, Y);
+          const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+          store_premul(sorted[k], glm::vec4(glm::vec3(c) * alpha, alpha));
         }
       }
     };
@@ -832,10 +884,20 @@ Image Rasterizer::render() const {
         }
         if (spp == 1 && !over) {  // the common case, without the loop over samples
           const std::size_t row = static_cast<std::size_t>(py - ty0) * kTile - tx0;
+          // The exact run of pixel centres inside all three edges: w + step * i >= 0.
+          std::int64_t first_i = 0, last_i = hi - lo;
+          const std::int64_t w[3] = {e0 + edge_sample[0], e1 + edge_sample[1], e2 + edge_sample[2]};
+          for (int k = 0; k < 3; ++k) {
+            if (steps[k] > 0) {
+              if (w[k] < 0) first_i = std::max(first_i, (-w[k] + steps[k] - 1) / steps[k]);
+            } else if (w[k] < 0) {
+              last_i = -1;
+            } else if (steps[k] < 0) {
+              last_i = std::min(last_i, w[k] / -steps[k]);
+            }
+          }
           bool any = false;
-          std::int64_t w0 = e0 + edge_sample[0], w1 = e1 + edge_sample[1], w2 = e2 + edge_sample[2];
-          for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
-            if ((w0 | w1 | w2) < 0) continue;
+          for (int px = lo + static_cast<int>(first_i); px <= lo + last_i; ++px) {
             const std::size_t at = row + px;
             const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
             if (test && !(z < depth[at])) continue;
