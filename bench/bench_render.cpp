@@ -84,7 +84,7 @@ void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads) {
   for (auto _ : state) {
     Rasterizer r(ro);
     r.draw(c->mesh, c->camera.view(r.aspect()), lighting);
-    img = r.render();
+    r.render(img);  // the frame's storage reused, as llvmpipe's OSMesa buffer is
     benchmark::DoNotOptimize(img.pixels.data());
   }
   // Counted after the timed loop, as llvmpipe's `drawn` is.

@@ -689,6 +689,12 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
 }
 
 Image Rasterizer::render() const {
+  Image out;
+  render(out);
+  return out;
+}
+
+void Rasterizer::render(Image& out) const {
   const int width = options_.width, height = options_.height;
   const int s = options_.samples_per_axis, spp = s * s;
   const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
@@ -715,7 +721,9 @@ Image Rasterizer::render() const {
   const bool simd = simd_available();
 #endif
 
-  Image out(width, height);
+  out.width = width;
+  out.height = height;
+  out.pixels.resize(static_cast<std::size_t>(width) * height);
   const glm::vec4 background = options_.background;
   run_parallel(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
@@ -731,20 +739,23 @@ Image Rasterizer::render() const {
       std::uint16_t pixel;  // y * kTile + x in the tile
       std::uint16_t q;      // the first sample showing the triangle
       std::uint32_t mask;   // every sample of the pixel showing it
-      std::uint32_t id;     // the triangle's position in the bin
     };
+    constexpr std::uint32_t kBatch = 8;
     thread_local std::vector<glm::vec4> color;
     thread_local std::vector<float> depth;
     // Opaque triangle per sample, not shaded yet, as its position in this tile's bin.
     thread_local std::vector<std::uint32_t> visible;
     thread_local std::vector<Edges> edges;  // per bin position
-    thread_local std::vector<std::uint32_t> first, cursor;
-    thread_local std::vector<Entry> found, sorted;
+    // Per bin position: up to kBatch samples waiting to be shaded, and how many.
+    thread_local std::vector<Entry> waiting;
+    thread_local std::vector<std::uint8_t> waiting_count;
     const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
     color.assign(samples, background);
     depth.assign(samples, 1.0f);
     visible.assign(samples, kNone);
     edges.resize(bin.size());
+    waiting.resize(bin.size() * kBatch);
+    waiting_count.assign(bin.size(), 0);
     bool pending = false;
 
     auto sample_xy = [&](const Entry& en, std::int64_t& X, std::int64_t& Y) {
@@ -756,19 +767,75 @@ Image Rasterizer::render() const {
       for (std::uint32_t m = en.mask; m; m &= m - 1)
         color[base + static_cast<unsigned>(__builtin_ctz(m))] = premul;
     };
+    // Shades n waiting samples of the triangle at bin position id.
+    auto shade_batch = [&](std::uint32_t id, const Entry* batch, std::uint32_t n) {
+      const ScreenTriangle& t = tris[bin[id]];
+      const DrawState& d = draws[t.draw];
+      const Edges& e = edges[id];
+#ifdef CW4D_RASTER_SIMD
+      if (simd && simd_shadable(d, t)) {
+        double X[kBatch], Y[kBatch];
+        for (std::uint32_t i = 0; i < kBatch; ++i) {
+          std::int64_t x, y;
+          sample_xy(batch[std::min(i, n - 1)], x, y);
+          X[i] = static_cast<double>(x);
+          Y[i] = static_cast<double>(y);
+        }
+        glm::vec4 c[kBatch];
+        shade8(d, t, e, X, Y, c);
+        for (std::uint32_t i = 0; i < n; ++i) store_premul(batch[i], c[i]);
+        return;
+      }
+#endif
+      for (std::uint32_t i = 0; i < n; ++i) {
+        std::int64_t X, Y;
+        sample_xy(batch[i], X, Y);
+        const glm::vec4 c = shade_at(d, t, e, X, Y);
+        const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+        store_premul(batch[i], glm::vec4(glm::vec3(c) * alpha, alpha));
+      }
+    };
+    // Queues samples of triangle id; every full batch is shaded at once.
+    auto enqueue = [&](std::uint32_t id, Entry en, std::uint32_t run) {
+      Entry* batch = &waiting[static_cast<std::size_t>(id) * kBatch];
+      std::uint32_t n = waiting_count[id];
+      for (std::uint32_t r = 0; r < run; ++r, ++en.pixel) {
+        batch[n++] = en;
+        if (n == kBatch) {
+          shade_batch(id, batch, n);
+          n = 0;
+        }
+      }
+      waiting_count[id] = static_cast<std::uint8_t>(n);
+    };
 
     // Deferred shading of the opaque samples: each pixel shades each distinct triangle left
-    // visible in it once (at its first sample), so hidden fragments cost no lighting. The
-    // samples to shade are grouped by triangle (a counting sort), so that eight samples of one
-    // triangle are shaded at once where the SIMD path applies.
+    // visible in it once (at its first sample), so hidden fragments cost no lighting. Samples
+    // wait per triangle until eight can be shaded at once (where the SIMD path applies).
     auto flush = [&] {
       if (!pending) return;
       pending = false;
-      found.clear();
-      first.assign(bin.size() + 1, 0);
-      for (int y = 0; y < th; ++y)
+      for (int y = 0; y < th; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * kTile;
+        if (spp == 1) {  // runs of one triangle along the row
+          for (int x = 0; x < tw;) {
+            const std::uint32_t id = visible[row + x];
+            if (id == kNone) {
+              ++x;
+              continue;
+            }
+            int end = x + 1;
+            while (end < tw && visible[row + end] == id) ++end;
+            std::fill(visible.begin() + static_cast<std::ptrdiff_t>(row + x),
+                      visible.begin() + static_cast<std::ptrdiff_t>(row + end), kNone);
+            enqueue(id, {static_cast<std::uint16_t>(row + x), 0, 1u},
+                    static_cast<std::uint32_t>(end - x));
+            x = end;
+          }
+          continue;
+        }
         for (int x = 0; x < tw; ++x) {
-          const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
+          const std::size_t base = (row + x) * spp;
           for (int q = 0; q < spp; ++q) {
             const std::uint32_t id = visible[base + q];
             if (id == kNone) continue;
@@ -778,47 +845,16 @@ Image Rasterizer::render() const {
                 mask |= 1u << q2;
                 visible[base + q2] = kNone;
               }
-            found.push_back({static_cast<std::uint16_t>(y * kTile + x),
-                             static_cast<std::uint16_t>(q), mask, id});
-            ++first[id + 1];
+            enqueue(id, {static_cast<std::uint16_t>(row + x), static_cast<std::uint16_t>(q), mask},
+                    1);
           }
-        }
-      for (std::size_t j = 0; j < bin.size(); ++j) first[j + 1] += first[j];
-      sorted.resize(found.size());
-      cursor.assign(first.begin(), first.end() - 1);
-      for (const Entry& en : found) sorted[cursor[en.id]++] = en;
-      for (std::size_t j = 0; j < bin.size(); ++j) {
-        const std::uint32_t begin = first[j], end = first[j + 1];
-        if (begin == end) continue;
-        const ScreenTriangle& t = tris[bin[j]];
-        const DrawState& d = draws[t.draw];
-        const Edges& e = edges[j];
-        std::uint32_t k = begin;
-#ifdef CW4D_RASTER_SIMD
-        if (simd && simd_shadable(d, t)) {
-          for (; k < end; k += 8) {
-            const std::uint32_t n = std::min<std::uint32_t>(8, end - k);
-            double X[8], Y[8];
-            for (std::uint32_t i = 0; i < 8; ++i) {
-              std::int64_t x, y;
-              sample_xy(sorted[k + std::min(i, n - 1)], x, y);
-              X[i] = static_cast<double>(x);
-              Y[i] = static_cast<double>(y);
-            }
-            glm::vec4 c[8];
-            shade8(d, t, e, X, Y, c);
-            for (std::uint32_t i = 0; i < n; ++i) store_premul(sorted[k + i], c[i]);
-          }
-        }
-#endif
-        for (; k < end; ++k) {
-          std::int64_t X, Y;
-          sample_xy(sorted[k], X, Y);
-          const glm::vec4 c = shade_at(d, t, e, X, Y);
-          const float alpha = std::clamp(c.a, 0.0f, 1.0f);
-          store_premul(sorted[k], glm::vec4(glm::vec3(c) * alpha, alpha));
         }
       }
+      for (std::uint32_t id = 0; id < bin.size(); ++id)
+        if (waiting_count[id]) {
+          shade_batch(id, &waiting[static_cast<std::size_t>(id) * kBatch], waiting_count[id]);
+          waiting_count[id] = 0;
+        }
     };
 
     std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
@@ -954,7 +990,6 @@ Image Rasterizer::render() const {
         out.at(tx0 + x, ty0 + y) = sum * inv_spp;
       }
   });
-  return out;
 }
 
 }  // namespace cw4d::render

@@ -149,6 +149,9 @@ class Rasterizer {
 
   /// Rasterizes everything queued: linear premultiplied RGBA, options().width x height.
   Image render() const;
+  /// The same into `out`, reusing its storage when it has that size already (every pixel is
+  /// written), as a frame loop would.
+  void render(Image& out) const;
 
  private:
   struct Impl;
