@@ -24,6 +24,7 @@ namespace {
 constexpr int kSubpixelBits = 8;
 constexpr std::int64_t kSubpixel = 1 << kSubpixelBits;
 constexpr int kTile = 64;
+constexpr int kNarrow = 16;           // rows up to this many pixels are tested pixel by pixel
 constexpr std::size_t kChunk = 2048;  // triangles per geometry work item
 constexpr int kMaxSide = 16384;
 
@@ -876,6 +877,7 @@ void Rasterizer::render(Image& out) const {
       for (int k = 0; k < 3; ++k)
         max_offset[k] =
             *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
+      const bool wide = px1 - px0 >= kNarrow;
       const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel,
                          step2 = e.A[2] * kSubpixel;
       // Depth along a row, stepped in double from its exact value at the span's first pixel.
@@ -891,10 +893,10 @@ void Rasterizer::render(Image& out) const {
         std::int64_t e1 = e.A[1] * X0 + e.B[1] * Y + e.C[1] + e.bias[1];
         std::int64_t e2 = e.A[2] * X0 + e.B[2] * Y + e.C[2] + e.bias[2];
         // The span of the row where some sample can be inside (conservative by a pixel): each
-        // edge function is linear along the row.
+        // edge function is linear along the row. Narrow boxes test every pixel instead.
         int lo = px0, hi = px1;
         const std::int64_t row_e[3] = {e0, e1, e2}, steps[3] = {step0, step1, step2};
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3 && wide; ++k) {
           const std::int64_t best = row_e[k] + max_offset[k];
           if (steps[k] == 0) {
             if (best < 0) hi = lo - 1;
@@ -920,9 +922,24 @@ void Rasterizer::render(Image& out) const {
         }
         if (spp == 1 && !over) {  // the common case, without the loop over samples
           const std::size_t row = static_cast<std::size_t>(py - ty0) * kTile - tx0;
+          const std::int64_t w[3] = {e0 + edge_sample[0], e1 + edge_sample[1], e2 + edge_sample[2]};
+          if (hi - lo < kNarrow) {  // testing each pixel is cheaper than three divisions
+            bool any = false;
+            std::int64_t w0 = w[0], w1 = w[1], w2 = w[2];
+            for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
+              if ((w0 | w1 | w2) < 0) continue;
+              const std::size_t at = row + px;
+              const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
+              if (test && !(z < depth[at])) continue;
+              if (write) depth[at] = z;
+              visible[at] = j;
+              any = true;
+            }
+            pending |= any;
+            continue;
+          }
           // The exact run of pixel centres inside all three edges: w + step * i >= 0.
           std::int64_t first_i = 0, last_i = hi - lo;
-          const std::int64_t w[3] = {e0 + edge_sample[0], e1 + edge_sample[1], e2 + edge_sample[2]};
           for (int k = 0; k < 3; ++k) {
             if (steps[k] > 0) {
               if (w[k] < 0) first_i = std::max(first_i, (-w[k] + steps[k] - 1) / steps[k]);
