@@ -523,6 +523,10 @@ Lighting Lighting::studio(const Camera& camera) {
 struct Rasterizer::Impl {
   std::vector<DrawState> draws;
   std::vector<ScreenTriangle> triangles;
+  // Scratch of draw(), kept so that a rasterizer drawing frame after frame reuses it.
+  std::vector<std::vector<ScreenTriangle>> parts;
+  std::vector<ScreenVertex> screen;  // per mesh vertex, when inside the frustum
+  std::vector<unsigned> codes;       // per mesh vertex: outcode
 };
 
 Rasterizer::Rasterizer(const RasterOptions& options)
@@ -567,13 +571,18 @@ void run_parallel(std::size_t n, int threads, F&& f) {
 // the result is independent of the number of workers.
 template <class Produce>
 void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out,
-                Produce&& produce) {
+                std::vector<std::vector<ScreenTriangle>>& parts, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
-  std::vector<std::vector<ScreenTriangle>> parts(chunks);
+  if (parts.size() < chunks) parts.resize(chunks);
   run_parallel(chunks, threads, [&](std::size_t c) {
+    parts[c].clear();
+    parts[c].reserve(kChunk);
     produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
   });
-  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  std::size_t total = out.size();
+  for (std::size_t c = 0; c < chunks; ++c) total += parts[c].size();
+  out.reserve(total);
+  for (std::size_t c = 0; c < chunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
 }
 
 void sort_back_to_front(std::vector<ScreenTriangle>& tris, std::size_t from) {
@@ -595,12 +604,38 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
   impl_->draws.push_back(make_state(view, lighting, options));
   const int w = options_.width, h = options_.height;
   const std::size_t first = impl_->triangles.size();
-  run_chunks(mesh.triangles.size(), worker_count(options_.threads), impl_->triangles,
+  const int threads = worker_count(options_.threads);
+  // Every vertex to clip space and, where it is inside the frustum, to the screen, once.
+  auto& screen_of = impl_->screen;
+  auto& codes = impl_->codes;
+  screen_of.resize(nv);
+  codes.resize(nv);
+  run_parallel((nv + kChunk - 1) / kChunk, threads, [&](std::size_t c) {
+    for (std::size_t i = c * kChunk; i < std::min(nv, (c + 1) * kChunk); ++i) {
+      const Vertex& v = mesh.vertices[i];
+      const ClipVertex cv{view.clip_from_world * glm::vec4(v.position, 1.0f),
+                          {v.position, v.normal, v.color, v.uvw}};
+      codes[i] = outcode(cv.clip);
+      if (!codes[i]) screen_of[i] = to_screen(cv, w, h);
+    }
+  });
+  run_chunks(mesh.triangles.size(), threads, impl_->triangles, impl_->parts,
              [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
                std::vector<ClipVertex> poly, scratch;
                std::vector<ScreenVertex> screen;
                for (std::size_t i = begin; i < end; ++i) {
                  const auto& tri = mesh.triangles[i];
+                 const Vertex& flat = mesh.vertices[tri[0]];
+                 if (!(codes[tri[0]] | codes[tri[1]] | codes[tri[2]])) {  // nothing to clip
+                   ScreenTriangle st;
+                   if (setup(screen_of[tri[0]], screen_of[tri[1]], screen_of[tri[2]],
+                             options.cull_back_faces, w, h, draw_id, st)) {
+                     st.normal4 = flat.normal4;
+                     st.texture = flat.texture;
+                     out.push_back(st);
+                   }
+                   continue;
+                 }
                  poly.clear();
                  unsigned all = ~0u, any = 0;
                  for (auto id : tri) {
@@ -617,7 +652,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  if (poly.size() < 3) continue;
                  screen.clear();
                  for (const auto& cv : poly) screen.push_back(to_screen(cv, w, h));
-                 const Vertex& flat = mesh.vertices[tri[0]];
                  for (std::size_t k = 1; k + 1 < screen.size(); ++k) {
                    ScreenTriangle st;
                    if (setup(screen[0], screen[k], screen[k + 1], options.cull_back_faces, w, h,
@@ -641,7 +675,7 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   const float half = 0.5f * std::max(options.line_width, 0.0f);
   const std::size_t first = impl_->triangles.size();
   run_chunks(
-      lines.size(), worker_count(options_.threads), impl_->triangles,
+      lines.size(), worker_count(options_.threads), impl_->triangles, impl_->parts,
       [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
         for (std::size_t i = begin; i < end; ++i) {
           const LineSegment& s = lines[i];
@@ -927,13 +961,14 @@ void Rasterizer::render(Image& out) const {
             bool any = false;
             std::int64_t w0 = w[0], w1 = w[1], w2 = w[2];
             for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
-              if ((w0 | w1 | w2) < 0) continue;
+              // Without branches: small triangles leave half their box uncovered.
               const std::size_t at = row + px;
               const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
-              if (test && !(z < depth[at])) continue;
-              if (write) depth[at] = z;
-              visible[at] = j;
-              any = true;
+              const float old_z = depth[at];
+              const bool pass = ((w0 | w1 | w2) >= 0) & (!test | (z < old_z));
+              depth[at] = pass & write ? z : old_z;
+              visible[at] = pass ? j : visible[at];
+              any |= pass;
             }
             pending |= any;
             continue;

@@ -144,7 +144,7 @@ class Rasterizer {
                   const DrawOptions& options = {});
   /// Screen triangles queued so far (after clipping and culling).
   std::size_t queued_triangles() const;
-  /// Drops every queued draw.
+  /// Drops every queued draw (keeping the storage, for the next frame).
   void clear();
 
   /// Rasterizes everything queued: linear premultiplied RGBA, options().width x height.
