@@ -53,12 +53,13 @@ struct ClipVertex {
 // A triangle ready for rasterization: fixed-point screen position (y down), depth, 1/w and
 // attributes premultiplied by 1/w. Oriented so that its edge functions are positive inside.
 struct ScreenTriangle {
+  // What binning and coverage read first, together; the shading attributes after them.
+  int x0, y0, x1, y1;  // pixel bounding box, inclusive, inside the image
+  std::uint32_t draw;
   std::array<std::int64_t, 3> x, y;
   std::array<float, 3> z;
   std::array<float, 3> inv_w;
-  std::array<Attr, 3> attr;  // attr / w
-  int x0, y0, x1, y1;        // pixel bounding box, inclusive, inside the image
-  std::uint32_t draw;
+  std::array<Attr, 3> attr;            // attr / w
   glm::vec4 normal4{0.0f};             // flat, for 4D lighting
   const Texture3D* texture = nullptr;  // flat
 };
@@ -961,14 +962,13 @@ void Rasterizer::render(Image& out) const {
             bool any = false;
             std::int64_t w0 = w[0], w1 = w[1], w2 = w[2];
             for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
-              // Without branches: small triangles leave half their box uncovered.
+              if ((w0 | w1 | w2) < 0) continue;
               const std::size_t at = row + px;
               const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
-              const float old_z = depth[at];
-              const bool pass = ((w0 | w1 | w2) >= 0) & (!test | (z < old_z));
-              depth[at] = pass & write ? z : old_z;
-              visible[at] = pass ? j : visible[at];
-              any |= pass;
+              if (test && !(z < depth[at])) continue;
+              if (write) depth[at] = z;
+              visible[at] = j;
+              any = true;
             }
             pending |= any;
             continue;
