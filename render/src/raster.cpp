@@ -912,7 +912,7 @@ void Rasterizer::render(Image& out) const {
       for (int k = 0; k < 3; ++k)
         max_offset[k] =
             *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
-      const bool wide = px1 - px0 >= kNarrow;
+      const bool wide = spp > 1 || px1 - px0 >= kNarrow;
       const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel,
                          step2 = e.A[2] * kSubpixel;
       // Depth along a row, stepped in double from its exact value at the span's first pixel.
