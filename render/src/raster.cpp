@@ -12,6 +12,8 @@
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 #include "cw4d/complex/error.hpp"
@@ -521,6 +523,38 @@ Lighting Lighting::studio(const Camera& camera) {
   return l;
 }
 
+// Orders the streaming stores below before whatever the thread does next.
+void store_fence() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
+// Writes n pixels to dst. The frame is written once and not read again here, so on x86-64 the
+// stores bypass the cache (non-temporal: no read of the lines they replace); the caller
+// fences.
+void write_pixels(glm::vec4* dst, const glm::vec4* src, int n) {
+#if defined(__SSE2__)
+  if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
+    for (int i = 0; i < n; ++i)
+      _mm_stream_ps(reinterpret_cast<float*>(dst + i), _mm_loadu_ps(&src[i].x));
+    return;
+  }
+#endif
+  std::copy(src, src + n, dst);
+}
+
+void fill_pixels(glm::vec4* dst, const glm::vec4& value, int n) {
+#if defined(__SSE2__)
+  if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
+    const __m128 v = _mm_loadu_ps(&value.x);
+    for (int i = 0; i < n; ++i) _mm_stream_ps(reinterpret_cast<float*>(dst + i), v);
+    return;
+  }
+#endif
+  std::fill(dst, dst + n, value);
+}
+
 struct Rasterizer::Impl {
   std::vector<DrawState> draws;
   std::vector<ScreenTriangle> triangles;
@@ -767,8 +801,8 @@ void Rasterizer::render(Image& out) const {
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
     const auto& bin = bins[tile];
     if (bin.empty()) {
-      for (int y = 0; y < th; ++y)
-        for (int x = 0; x < tw; ++x) out.at(tx0 + x, ty0 + y) = background;
+      for (int y = 0; y < th; ++y) fill_pixels(&out.at(tx0, ty0 + y), background, tw);
+      store_fence();
       return;
     }
     struct Entry {
@@ -1029,14 +1063,16 @@ void Rasterizer::render(Image& out) const {
       }
     }
     flush();
+    if (spp == 1) {
+      for (int y = 0; y < th; ++y)
+        write_pixels(&out.at(tx0, ty0 + y), &color[static_cast<std::size_t>(y) * kTile], tw);
+      store_fence();
+      return;
+    }
     const float inv_spp = 1.0f / static_cast<float>(spp);
     for (int y = 0; y < th; ++y)
       for (int x = 0; x < tw; ++x) {
         const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
-        if (spp == 1) {
-          out.at(tx0 + x, ty0 + y) = color[base];
-          continue;
-        }
         glm::vec4 sum(0.0f);
         for (int q = 0; q < spp; ++q) sum += color[base + q];
         out.at(tx0 + x, ty0 + y) = sum * inv_spp;
