@@ -32,6 +32,7 @@ PACKAGES=(
   libstb-dev
   libglm-dev
   libwebp-dev
+  libgif-dev
   libtet1.5-dev
   libtbb-dev
   assimp-utils

@@ -7,7 +7,9 @@
 // Differences that favour llvmpipe: it lights per vertex (Gouraud) where cw4d lights per
 // pixel (Blinn-Phong), and it writes 8-bit pixels where cw4d resolves to linear float RGBA.
 // cw4d runs with 1 sample per pixel (as llvmpipe, which has no MSAA through OSMesa) and with
-// 2x2 samples; threads = all cores unless the name says /threads:1.
+// 2x2 samples; threads = all cores unless the name says /threads:1. One Rasterizer and one
+// Image serve every frame (as llvmpipe keeps its context and buffer), except in /fresh, which
+// allocates both anew per frame.
 //
 // In console mode the program ends with wall-time ratios cw4d / llvmpipe from the same run.
 //
@@ -20,6 +22,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,7 +75,9 @@ const std::vector<Case>& cases() {
   return all;
 }
 
-void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads) {
+// fresh: a new Rasterizer and a new Image every frame (the storage allocated and faulted in
+// anew each time) instead of one of each reused through clear() and render(Image&).
+void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads, bool fresh) {
   using namespace cw4d::render;
   RasterOptions ro;
   ro.width = kWidth;
@@ -80,15 +85,24 @@ void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads) {
   ro.samples_per_axis = samples;
   ro.threads = threads;
   const Lighting lighting = Lighting::studio(c->camera);
-  double coverage = 0.0;
+  // One rasterizer and one frame reused from frame to frame (clear() keeps the storage), as
+  // llvmpipe keeps its context and the OSMesa buffer.
+  Rasterizer r(ro);
+  Image img;
   for (auto _ : state) {
-    Rasterizer r(ro);
-    r.draw(c->mesh, c->camera.view(r.aspect()), lighting);
-    Image img = r.render();
+    if (fresh) {
+      Rasterizer f(ro);
+      f.draw(c->mesh, c->camera.view(f.aspect()), lighting);
+      img = f.render();
+    } else {
+      r.clear();
+      r.draw(c->mesh, c->camera.view(r.aspect()), lighting);
+      r.render(img);
+    }
     benchmark::DoNotOptimize(img.pixels.data());
-    coverage = img.coverage();
   }
-  state.counters["drawn"] = coverage / (kWidth * kHeight);
+  // Counted after the timed loop, as llvmpipe's `drawn` is.
+  state.counters["drawn"] = img.coverage() / (kWidth * kHeight);
   state.counters["triangles"] = static_cast<double>(c->mesh.triangles.size());
 }
 
@@ -181,19 +195,20 @@ void bm_llvmpipe(benchmark::State& state, const Case* c) {
 void register_cases() {
   for (const Case& c : cases()) {
     const Case* p = &c;
-    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1").c_str(), bm_cw4d, p, 1, 0)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(1.0);
-    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:1/threads:1").c_str(), bm_cw4d, p, 1,
-                                 1)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(1.0);
-    benchmark::RegisterBenchmark(("cw4d/" + c.name + "/samples:2x2").c_str(), bm_cw4d, p, 2, 0)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(1.0);
+    const struct {
+      const char* variant;
+      int samples, threads;
+      bool fresh;
+    } variants[] = {{"samples:1", 1, 0, false},
+                    {"samples:1/threads:1", 1, 1, false},
+                    {"samples:1/fresh", 1, 0, true},
+                    {"samples:2x2", 2, 0, false}};
+    for (const auto& v : variants)
+      benchmark::RegisterBenchmark(("cw4d/" + c.name + "/" + v.variant).c_str(), bm_cw4d, p,
+                                   v.samples, v.threads, v.fresh)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->MinTime(1.0);
     benchmark::RegisterBenchmark(("llvmpipe/" + c.name).c_str(), bm_llvmpipe, p)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
@@ -205,19 +220,28 @@ void register_cases() {
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   explicit RatioReporter(bool color) : ConsoleReporter(color ? OO_ColorTabular : OO_Tabular) {}
+  // With --benchmark_repetitions the ratios are of the medians, else of the single runs.
   void ReportRuns(const std::vector<Run>& reports) override {
     ConsoleReporter::ReportRuns(reports);
-    for (const Run& run : reports)
-      if (run.run_type == Run::RT_Iteration && !run.error_occurred)
-        times_[run.benchmark_name()] = run.GetAdjustedRealTime();
+    for (const Run& run : reports) {
+      if (run.error_occurred) continue;
+      if (run.run_type == Run::RT_Iteration && !median_.count(run.run_name.str()))
+        times_[run.run_name.str()] = run.GetAdjustedRealTime();
+      if (run.run_type == Run::RT_Aggregate && run.aggregate_name == "median") {
+        times_[run.run_name.str()] = run.GetAdjustedRealTime();
+        median_.insert(run.run_name.str());
+      }
+    }
   }
   void Finalize() override {
     ConsoleReporter::Finalize();
-    std::printf("\nWall time per frame, cw4d / llvmpipe (same run):\n");
+    std::printf("\nWall time per frame, cw4d / llvmpipe (same run%s):\n",
+                median_.empty() ? "" : ", medians");
     for (const Case& c : cases()) {
       const auto gl = times_.find("llvmpipe/" + c.name + "/min_time:1.000/real_time");
       if (gl == times_.end()) continue;
-      for (const char* variant : {"samples:1", "samples:1/threads:1", "samples:2x2"}) {
+      for (const char* variant :
+           {"samples:1", "samples:1/threads:1", "samples:1/fresh", "samples:2x2"}) {
         const auto ours =
             times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
         if (ours == times_.end()) continue;
@@ -228,6 +252,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
  private:
   std::map<std::string, double> times_;
+  std::set<std::string> median_;
 };
 
 }  // namespace

@@ -219,6 +219,30 @@ TEST_CASE("cw4d render --animate writes an animated WebP", "[render][cli]") {
   CHECK(bad.entries() == 0);
 }
 
+TEST_CASE("cw4d render --animate writes an animated GIF", "[render][cli]") {
+  TempDir dir;
+  const Result r =
+      run(dir, {"render", "tesseract", "--normal", "1,1,1,1", "--offset", "0.2", "--animate",
+                "sweep", "--frames", "4", "--frame-ms", "50", "--size", "64x48", "-o", "a.gif"});
+  CAPTURE(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("4 frames") != std::string::npos);
+  const std::string bytes = cw4d::test::read_text(dir / "a.gif");
+  REQUIRE(bytes.size() > 13);
+  CHECK(bytes.compare(0, 6, "GIF89a") == 0);
+  CHECK((static_cast<unsigned char>(bytes[6]) | static_cast<unsigned char>(bytes[7]) << 8) == 64);
+  CHECK((static_cast<unsigned char>(bytes[8]) | static_cast<unsigned char>(bytes[9]) << 8) == 48);
+  CHECK(bytes.find("NETSCAPE2.0") != std::string::npos);
+  // One image descriptor (0x2c) after each graphic control extension (0x21 0xf9), 4 frames.
+  std::size_t gce = 0;
+  for (std::size_t at = bytes.find("\x21\xf9"); at != std::string::npos;
+       at = bytes.find("\x21\xf9", at + 1))
+    gce += at + 8 < bytes.size() && bytes[at + 8] == '\x2c';
+  CHECK(gce == 4);
+  CHECK(bytes.back() == '\x3b');  // the trailer
+  CHECK(dir.entries() == 1);      // no temporary file left
+}
+
 TEST_CASE("cw4d render frames writes numbered PNGs", "[render][cli]") {
   TempDir dir;
   const Result r = run(dir, {"render", "16-cell", "--mode", "frames", "--normal", "0,0,0,1",

@@ -6,6 +6,7 @@
 // layer stripes of voxel clouds at grazing views; animated WebP read back by libwebp's demuxer.
 #include <catch2/catch.hpp>
 
+#include <gif_lib.h>
 #include <webp/demux.h>
 #include <Eigen/Geometry>
 
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -533,6 +535,87 @@ TEST_CASE("animated WebP: libwebp's decoder reads back every frame", "[render][a
   CHECK_THROWS_AS(encode_webp_animation({}), InputError);
   frames[1].width = 16;
   CHECK_THROWS_AS(encode_webp_animation(frames), InputError);
+}
+
+namespace {
+
+struct GifReader {
+  const std::string& bytes;
+  std::size_t at = 0;
+};
+
+int read_gif_bytes(GifFileType* gif, GifByteType* out, int n) {
+  auto* r = static_cast<GifReader*>(gif->UserData);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(n), r->bytes.size() - r->at);
+  std::memcpy(out, r->bytes.data() + r->at, k);
+  r->at += k;
+  return static_cast<int>(k);
+}
+
+}  // namespace
+
+TEST_CASE("animated GIF: giflib's decoder reads back every frame", "[render][animation]") {
+  // Three frames of a few colors each whose channels are multiples of 8 (what the median cut
+  // keeps exactly): the decoder must return every pixel, the frame time (in hundredths of a
+  // second) and the NETSCAPE2.0 loop block (0: forever).
+  const std::uint8_t levels[] = {0, 64, 128, 192, 248};
+  std::vector<Image8> frames;
+  for (int f = 0; f < 3; ++f) {
+    Image8 img;
+    img.width = 17;
+    img.height = 11;
+    img.channels = f == 2 ? 4 : 3;  // alpha is dropped
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        for (int c = 0; c < 3; ++c) img.bytes.push_back(levels[(x / 3 + y / 2 + c + f) % 5]);
+        if (img.channels == 4) img.bytes.push_back(static_cast<std::uint8_t>(x * 15));
+      }
+    frames.push_back(img);
+  }
+  AnimationOptions ao;
+  ao.frame_ms = 120;
+  const std::string bytes = encode_gif_animation(frames, ao);
+  REQUIRE(bytes.substr(0, 6) == "GIF89a");
+  GifReader reader{bytes};
+  int error = 0;
+  GifFileType* gif = DGifOpen(&reader, read_gif_bytes, &error);
+  REQUIRE(gif != nullptr);
+  REQUIRE(DGifSlurp(gif) == GIF_OK);
+  CHECK(gif->SWidth == 17);
+  CHECK(gif->SHeight == 11);
+  REQUIRE(gif->ImageCount == 3);
+  bool loop_forever = false;
+  for (int f = 0; f < 3; ++f) {
+    const SavedImage& im = gif->SavedImages[f];
+    REQUIRE(im.ImageDesc.Width == 17);
+    REQUIRE(im.ImageDesc.Height == 11);
+    const ColorMapObject* map = im.ImageDesc.ColorMap ? im.ImageDesc.ColorMap : gif->SColorMap;
+    REQUIRE(map != nullptr);
+    GraphicsControlBlock gcb;
+    REQUIRE(DGifSavedExtensionToGCB(gif, f, &gcb) == GIF_OK);
+    CHECK(gcb.DelayTime == 12);
+    for (int e = 0; e + 1 < im.ExtensionBlockCount; ++e)
+      if (im.ExtensionBlocks[e].Function == APPLICATION_EXT_FUNC_CODE &&
+          im.ExtensionBlocks[e].ByteCount == 11 &&
+          std::memcmp(im.ExtensionBlocks[e].Bytes, "NETSCAPE2.0", 11) == 0) {
+        const ExtensionBlock& next = im.ExtensionBlocks[e + 1];
+        loop_forever =
+            next.ByteCount == 3 && next.Bytes[0] == 1 && next.Bytes[1] == 0 && next.Bytes[2] == 0;
+      }
+    std::size_t wrong = 0;
+    const Image8& want = frames[static_cast<std::size_t>(f)];
+    for (int i = 0; i < 17 * 11; ++i) {
+      const GifColorType c = map->Colors[im.RasterBits[i]];
+      const std::uint8_t* p = &want.bytes[static_cast<std::size_t>(i) * want.channels];
+      wrong += c.Red != p[0] || c.Green != p[1] || c.Blue != p[2];
+    }
+    CHECK(wrong == 0);
+  }
+  CHECK(loop_forever);
+  DGifCloseFile(gif, &error);
+  CHECK_THROWS_AS(encode_gif_animation({}), InputError);
+  frames[1].width = 16;
+  CHECK_THROWS_AS(encode_gif_animation(frames), InputError);
 }
 
 TEST_CASE("bounding-sphere pre-tests leave the visible edges of a crowded scene unchanged",

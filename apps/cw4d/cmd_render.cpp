@@ -205,7 +205,10 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
                        s.output + "'");
   render::AnimationOptions ao;
   ao.frame_ms = s.frame_ms;
-  render::write_webp_animation(s.output, frames, ao);
+  if (lower_extension(s.output) == ".gif")
+    render::write_gif_animation(s.output, frames, ao);
+  else
+    render::write_webp_animation(s.output, frames, ao);
   return "animation (" + std::to_string(s.frames) + " frames, " + s.animate + ")";
 }
 
@@ -246,9 +249,11 @@ void run_render(RenderSettings& s) {
   if (!s.animate.empty()) {
     if (s.mode != "section")
       throw InputError("--animate draws --mode section (sweep, rotate:PLANE or orbit)");
-    if (lower_extension(s.output) != ".webp")
-      throw InputError("--animate writes an animated WebP: give -o NAME.webp, not '" + s.output +
-                       "'");
+    if (lower_extension(s.output) != ".webp" && lower_extension(s.output) != ".gif")
+      throw InputError(
+          "--animate writes an animated WebP or GIF: give -o NAME.webp or NAME.gif, "
+          "not '" +
+          s.output + "'");
   } else if (lower_extension(s.output) != ".png") {
     throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
   }
@@ -519,7 +524,8 @@ void add_render_command(CLI::App& app, Commands& commands) {
                   "wireframe: the point the 4D camera looks at (default: the scene's centre)")
       ->type_name("X,Y,Z,W");
   cmd->add_option("--animate", s->animate,
-                  "section: write an animated WebP (-o NAME.webp) of a sweep across the input, "
+                  "section: write an animated WebP or GIF (-o NAME.webp, NAME.gif) of a sweep "
+                  "across the input, "
                   "rotate:PLANE (every object turned once about the origin, e.g. rotate:xw) or "
                   "orbit (the 3D camera once around the section)")
       ->type_name("KIND");

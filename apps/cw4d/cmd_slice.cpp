@@ -37,15 +37,19 @@ void run_slice(SliceSettings& s) {
                p.input_label() + " lives in R^" + std::to_string(input.dim()));
 
   Cut cut_result;
+  CornerUvw tet_uvw;
   if (s.method == "tet") {
-    // The tetrahedral path: tetrahedralize the model, cut every tetrahedron (the texture
-    // coordinates of that path travel with the tetrahedra, so the file gets none).
+    // The tetrahedral path: tetrahedralize the model, cut every tetrahedron; the texture
+    // coordinates travel with the tetrahedra (interpolated along the cut edges).
     if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
     if (input.dim() != 4) throw InputError("--method tet needs a 4D model");
     const Complex& model = *input.models().front();
     const TetSection ts = slice_tets(tetrahedralize(model), p.plane(s.offset), p.model_to_world(4));
     cut_result.section = to_section(ts, model);
-    out.uvw = false;
+    if (out.uvw && !ts.empty()) {
+      tet_uvw = tet_section_uvw(ts, cut_result.section);
+      out.corner_uvw = &tet_uvw;
+    }
   } else {
     cut_result = cut(input, p.plane(s.offset));
   }
@@ -102,7 +106,7 @@ void add_slice_command(CLI::App& app, Commands& commands) {
                 "Triangulate the polygons (OBJ only; polygons with holes always are)");
   cmd->add_option("--method", s->method,
                   "cw: the layered CW-complex section (polygons); tet: tetrahedralize the model "
-                  "and cut each tetrahedron (triangles, no UVW in the file)")
+                  "and cut each tetrahedron (triangles; UVW interpolated along the cut edges)")
       ->check(CLI::IsMember({"cw", "tet"}));
   cmd->add_flag("--no-uvw", s->no_uvw,
                 "Leave out the texture coordinates (OBJ vt, glTF TEXCOORD_0/_UVW)");

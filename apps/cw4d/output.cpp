@@ -104,10 +104,12 @@ void check_format(SectionFormat f, int dim, const std::string& where) {
   }
 }
 
-std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw) {
+std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw,
+                                         const CornerUvw* corner_uvw) {
   CornerUvw corners;
-  if (uvw) corners = section_uvw(sec, input.models());
-  return triangle_meshes(sec, input.object_names(), uvw ? &corners : nullptr);
+  if (uvw && !corner_uvw) corners = section_uvw(sec, input.models());
+  return triangle_meshes(sec, input.object_names(),
+                         uvw ? (corner_uvw ? corner_uvw : &corners) : nullptr);
 }
 
 std::string describe_files(const std::vector<std::string>& files) {
@@ -128,8 +130,8 @@ std::vector<std::string> write_section(const std::string& path, const Section& s
       opt.object_names = input.object_names();
       CornerUvw corners;
       if (out.uvw && sec.complex.ambient_dim() == 3 && sec.complex.top_rank() >= 2) {
-        corners = section_uvw(sec, input.models());
-        opt.uvw = &corners;
+        if (!out.corner_uvw) corners = section_uvw(sec, input.models());
+        opt.uvw = out.corner_uvw ? out.corner_uvw : &corners;
       }
       write_obj_file(path, sec, opt);
       if (!mtl_text(sec.complex).empty())
@@ -142,7 +144,7 @@ std::vector<std::string> write_section(const std::string& path, const Section& s
       opt.binary = out.format == SectionFormat::glb;
       opt.description = out.comment;
       std::vector<GltfNode> nodes;
-      for (auto& mesh : section_meshes(sec, input, out.uvw)) {
+      for (auto& mesh : section_meshes(sec, input, out.uvw, out.corner_uvw)) {
         GltfNode node;
         node.name = mesh.name;
         node.meshes.push_back(std::move(mesh));

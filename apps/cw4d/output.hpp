@@ -5,6 +5,7 @@
 
 #include "cli.hpp"
 #include "cw4d/export/mesh.hpp"
+#include "cw4d/section/uvw.hpp"
 
 namespace cw4d::cli {
 
@@ -28,6 +29,9 @@ struct SectionOutput {
   bool triangulate = false;  ///< OBJ: triangles instead of polygons
   bool uvw = true;           ///< OBJ and glTF: texture coordinates
   std::string comment;       ///< OBJ header, glTF asset description
+  /// OBJ and glTF: these texture coordinates instead of section_uvw's (the tetrahedral path's
+  /// sections carry their own); null: section_uvw.
+  const CornerUvw* corner_uvw = nullptr;
 };
 
 /// Writes `sec` (cut from `input`) to `path`, through temporary files and renames.
@@ -39,6 +43,7 @@ std::vector<std::string> write_section(const std::string& path, const Section& s
 std::string describe_files(const std::vector<std::string>& files);
 
 /// The glTF meshes of one section (per object), with UVW when asked.
-std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw);
+std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input, bool uvw,
+                                         const CornerUvw* corner_uvw = nullptr);
 
 }  // namespace cw4d::cli

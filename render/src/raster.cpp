@@ -6,8 +6,15 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <thread>
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -20,6 +27,7 @@ namespace {
 constexpr int kSubpixelBits = 8;
 constexpr std::int64_t kSubpixel = 1 << kSubpixelBits;
 constexpr int kTile = 64;
+constexpr int kNarrow = 16;           // rows up to this many pixels are tested pixel by pixel
 constexpr std::size_t kChunk = 2048;  // triangles per geometry work item
 constexpr int kMaxSide = 16384;
 
@@ -48,12 +56,13 @@ struct ClipVertex {
 // A triangle ready for rasterization: fixed-point screen position (y down), depth, 1/w and
 // attributes premultiplied by 1/w. Oriented so that its edge functions are positive inside.
 struct ScreenTriangle {
+  // What binning and coverage read first, together; the shading attributes after them.
+  int x0, y0, x1, y1;  // pixel bounding box, inclusive, inside the image
+  std::uint32_t draw;
   std::array<std::int64_t, 3> x, y;
   std::array<float, 3> z;
   std::array<float, 3> inv_w;
-  std::array<Attr, 3> attr;  // attr / w
-  int x0, y0, x1, y1;        // pixel bounding box, inclusive, inside the image
-  std::uint32_t draw;
+  std::array<Attr, 3> attr;            // attr / w
   glm::vec4 normal4{0.0f};             // flat, for 4D lighting
   const Texture3D* texture = nullptr;  // flat
 };
@@ -63,13 +72,39 @@ struct DrawState {
   Lighting lighting;
   DrawOptions options;
   float specular_cutoff = 0.0f;  // below this N.H the highlight is under 1e-3: not computed
+  int integer_shininess = 0;     // the shininess when it is a whole number 1..1024, else 0
 };
 
 DrawState make_state(const View& view, const Lighting& lighting, const DrawOptions& options) {
-  DrawState d{view, lighting, options, 0.0f};
+  DrawState d{view, lighting, options, 0.0f, 0};
   if (options.blend == Blend::Over) d.options.depth_write = false;
   if (lighting.shininess > 0.0f) d.specular_cutoff = std::exp(std::log(1e-3f) / lighting.shininess);
+  if (lighting.shininess >= 1.0f && lighting.shininess <= 1024.0f &&
+      lighting.shininess == std::floor(lighting.shininess))
+    d.integer_shininess = static_cast<int>(lighting.shininess);
   return d;
+}
+
+// x^n by repeated squaring (n >= 1): within a few ulps of std::pow, and the same sequence of
+// float products in the scalar and the SIMD path.
+template <class T>
+T integer_power(T x, int n) {
+  T result = x;
+  bool first = true;
+  for (;;) {
+    if (n & 1) {
+      result = first ? x : result * x;
+      first = false;
+    }
+    n >>= 1;
+    if (!n) return result;
+    x = x * x;
+  }
+}
+
+float specular_power(const DrawState& d, float nh) {
+  return d.integer_shininess ? integer_power(nh, d.integer_shininess)
+                             : std::pow(nh, d.lighting.shininess);
 }
 
 // Inside when >= 0: the six frustum planes of OpenGL clip space.
@@ -193,7 +228,7 @@ glm::vec3 blinn_phong(const DrawState& d, const glm::vec4& base, const Vec& n, c
   const float nh = glm::dot(n, h);
   const Lighting& lit = d.lighting;
   const float spec =
-      nh > d.specular_cutoff ? lit.specular * std::pow(std::max(nh, 0.0f), lit.shininess) : 0.0f;
+      nh > d.specular_cutoff ? lit.specular * specular_power(d, std::max(nh, 0.0f)) : 0.0f;
   return intensity * color * (glm::vec3(base) * diffuse + glm::vec3(spec));
 }
 
@@ -267,12 +302,15 @@ Edges edges_of(const ScreenTriangle& t) {
   return e;
 }
 
-// Perspective-correct attributes at the fixed-point sample (X, Y), shaded.
-glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, std::int64_t X,
-                   std::int64_t Y) {
-  float b[3];
+// Barycentric weights of the fixed-point sample (X, Y): the edge functions, exact in integers,
+// scaled by 1 / (twice the area).
+void barycentrics(const Edges& e, std::int64_t X, std::int64_t Y, float b[3]) {
   for (int k = 0; k < 3; ++k)
     b[k] = static_cast<float>(static_cast<double>(e.A[k] * X + e.B[k] * Y + e.C[k]) * e.inv_area);
+}
+
+// Perspective-correct attributes at the barycentric weights b, shaded.
+glm::vec4 shade_bary(const DrawState& d, const ScreenTriangle& t, const float b[3]) {
   const float inv_w = b[0] * t.inv_w[0] + b[1] * t.inv_w[1] + b[2] * t.inv_w[2];
   const float wgt = inv_w != 0.0f ? 1.0f / inv_w : 0.0f;
   Attr a;
@@ -283,6 +321,181 @@ glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, 
   if (t.texture) a.uvw = (b[0] * t.attr[0].uvw + b[1] * t.attr[1].uvw + b[2] * t.attr[2].uvw) * wgt;
   return shade(d, a, t);
 }
+
+// Perspective-correct attributes at the fixed-point sample (X, Y), shaded.
+glm::vec4 shade_at(const DrawState& d, const ScreenTriangle& t, const Edges& e, std::int64_t X,
+                   std::int64_t Y) {
+  float b[3];
+  barycentrics(e, X, Y, b);
+  return shade_bary(d, t, b);
+}
+
+// Eight samples of one triangle shaded at once with AVX (x86-64, chosen at run time). It
+// evaluates shade_bary's very operations in the same order, without fused multiply-adds (the
+// function is compiled for AVX2 only, not FMA), and the same power for the specular lanes
+// (integer_power, or std::pow lane by lane), so every lane is bit for bit the scalar result:
+// the picture does not depend on the path. Covers untextured triangles lit in 3D or unlit; the rest
+// goes through shade_bary.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define CW4D_RASTER_SIMD 1
+#define CW4D_AVX2 __attribute__((target("avx2")))
+typedef float v8f __attribute__((vector_size(32)));
+typedef int v8i __attribute__((vector_size(32)));
+typedef double v4d __attribute__((vector_size(32)));
+
+struct V3 {
+  v8f x, y, z;
+};
+
+CW4D_AVX2 inline v8f splat(float f) {
+  return v8f{f, f, f, f, f, f, f, f};
+}
+CW4D_AVX2 inline v8f vsqrt(v8f x) {
+  return reinterpret_cast<v8f>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x)));
+}
+CW4D_AVX2 inline v8f dot3(const V3& a, const V3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+// (b0 a0 + b1 a1 + b2 a2) w, as glm evaluates it for one component.
+CW4D_AVX2 inline v8f interp3(const v8f* B, float a0, float a1, float a2, v8f wgt) {
+  return (B[0] * a0 + B[1] * a1 + B[2] * a2) * wgt;
+}
+CW4D_AVX2 inline v8f pick(v8i mask, v8f a, v8f b) {
+  return mask ? a : b;
+}
+
+// integer_power for eight lanes (the same products).
+CW4D_AVX2 inline v8f integer_power8(v8f x, int n) {
+  v8f result = x;
+  bool first = true;
+  for (;;) {
+    if (n & 1) {
+      result = first ? x : result * x;
+      first = false;
+    }
+    n >>= 1;
+    if (!n) return result;
+    x = x * x;
+  }
+}
+
+bool simd_available() {
+  static const bool ok = __builtin_cpu_supports("avx2");
+  return ok;
+}
+
+bool simd_shadable(const DrawState& d, const ScreenTriangle& t) {
+  return !t.texture && (d.options.shading == Shading::Unlit || !d.lighting.four_d);
+}
+
+// Eight samples (X, Y) of one triangle (fixed point, exact in double: below 2^23 each, so the
+// edge functions below 2^47) shaded into eight unpremultiplied colors.
+CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const Edges& e,
+                      const double (&X)[8], const double (&Y)[8], glm::vec4* out) {
+  // The barycentrics as barycentrics() computes them: the integer edge function (exact here
+  // too), times 1 / area in double, rounded to float.
+  float b[3][8];
+  for (int h = 0; h < 8; h += 4) {
+    v4d x, y;
+    std::memcpy(&x, X + h, sizeof x);
+    std::memcpy(&y, Y + h, sizeof y);
+    for (int k = 0; k < 3; ++k) {
+      const v4d edge = static_cast<double>(e.A[k]) * x + static_cast<double>(e.B[k]) * y +
+                       static_cast<double>(e.C[k]);
+      const __m128 f = _mm256_cvtpd_ps(reinterpret_cast<__m256d>(edge * e.inv_area));
+      std::memcpy(&b[k][h], &f, sizeof f);
+    }
+  }
+  v8f B[3];
+  std::memcpy(&B[0], b[0], sizeof(v8f));
+  std::memcpy(&B[1], b[1], sizeof(v8f));
+  std::memcpy(&B[2], b[2], sizeof(v8f));
+  const v8f zero = splat(0.0f);
+  const v8f inv_w = B[0] * t.inv_w[0] + B[1] * t.inv_w[1] + B[2] * t.inv_w[2];
+  const v8f wgt = pick(inv_w != zero, splat(1.0f) / inv_w, zero);
+  const Attr &a0 = t.attr[0], &a1 = t.attr[1], &a2 = t.attr[2];
+  const v8f base[4] = {interp3(B, a0.color.r, a1.color.r, a2.color.r, wgt),
+                       interp3(B, a0.color.g, a1.color.g, a2.color.g, wgt),
+                       interp3(B, a0.color.b, a1.color.b, a2.color.b, wgt),
+                       interp3(B, a0.color.a, a1.color.a, a2.color.a, wgt)};
+  v8f rgb[3] = {base[0], base[1], base[2]};
+  if (d.options.shading != Shading::Unlit) {
+    const V3 p{interp3(B, a0.position.x, a1.position.x, a2.position.x, wgt),
+               interp3(B, a0.position.y, a1.position.y, a2.position.y, wgt),
+               interp3(B, a0.position.z, a1.position.z, a2.position.z, wgt)};
+    V3 n{interp3(B, a0.normal.x, a1.normal.x, a2.normal.x, wgt),
+         interp3(B, a0.normal.y, a1.normal.y, a2.normal.y, wgt),
+         interp3(B, a0.normal.z, a1.normal.z, a2.normal.z, wgt)};
+    const v8f nn = dot3(n, n);
+    const v8i lit = ~(nn <= zero);  // unlit lanes (zero normal) keep the base color
+    const v8f inv_len = splat(1.0f) / vsqrt(nn);
+    n = {n.x * inv_len, n.y * inv_len, n.z * inv_len};
+    const View& view = d.view;
+    V3 v{splat(-view.forward.x), splat(-view.forward.y), splat(-view.forward.z)};
+    if (!view.orthographic) {
+      const V3 to{splat(view.eye.x) - p.x, splat(view.eye.y) - p.y, splat(view.eye.z) - p.z};
+      const v8f len = vsqrt(dot3(to, to));
+      const v8i ok = len > zero;
+      v = {pick(ok, to.x / len, v.x), pick(ok, to.y / len, v.y), pick(ok, to.z / len, v.z)};
+    }
+    const v8i flip = dot3(n, v) < zero;
+    n = {pick(flip, -n.x, n.x), pick(flip, -n.y, n.y), pick(flip, -n.z, n.z)};
+    const Lighting& lit_rig = d.lighting;
+    v8f c[3] = {lit_rig.ambient.x * base[0], lit_rig.ambient.y * base[1],
+                lit_rig.ambient.z * base[2]};
+    for (const Light& light : lit_rig.lights) {
+      V3 l{splat(light.vector.x), splat(light.vector.y), splat(light.vector.z)};
+      v8f intensity = splat(1.0f);
+      if (light.kind == Light::Kind::Point) {
+        l = {l.x - p.x, l.y - p.y, l.z - p.z};
+        const v8f d2 = dot3(l, l);
+        intensity = splat(1.0f) / (splat(1.0f) + light.attenuation * d2);
+      }
+      const v8f len = vsqrt(dot3(l, l));
+      v8i on = len > zero;
+      l = {l.x / len, l.y / len, l.z / len};
+      const v8f diffuse = dot3(n, l);
+      on &= diffuse > zero;
+      if (!_mm256_movemask_ps(reinterpret_cast<__m256>(on))) continue;
+      V3 h{l.x + v.x, l.y + v.y, l.z + v.z};
+      const v8f inv_h = splat(1.0f) / vsqrt(dot3(h, h));
+      h = {h.x * inv_h, h.y * inv_h, h.z * inv_h};
+      const v8f nh = dot3(n, h);
+      const v8i highlight = on & (nh > d.specular_cutoff);
+      v8f spec = zero;
+      if (const int bits = _mm256_movemask_ps(reinterpret_cast<__m256>(highlight))) {
+        if (d.integer_shininess) {
+          const v8f x = pick(nh > zero, nh, zero);
+          spec = pick(highlight, lit_rig.specular * integer_power8(x, d.integer_shininess), zero);
+        } else {
+          float nh_lane[8], spec_lane[8];
+          std::memcpy(nh_lane, &nh, sizeof nh_lane);
+          for (int i = 0; i < 8; ++i)
+            spec_lane[i] = (bits >> i) & 1 ? lit_rig.specular * std::pow(std::max(nh_lane[i], 0.0f),
+                                                                         lit_rig.shininess)
+                                           : 0.0f;
+          std::memcpy(&spec, spec_lane, sizeof spec);
+        }
+      }
+      for (int k = 0; k < 3; ++k) {
+        const v8f term = (intensity * light.color[k]) * (base[k] * diffuse + spec);
+        c[k] = pick(on, c[k] + term, c[k]);
+      }
+    }
+    for (int k = 0; k < 3; ++k) rgb[k] = pick(lit, c[k], base[k]);
+  }
+  // Premultiplied as the scalar path's store does: alpha = clamp(a, 0, 1).
+  const v8f alpha = pick(base[3] < zero, zero, pick(splat(1.0f) < base[3], splat(1.0f), base[3]));
+  float lanes[4][8];
+  for (int k = 0; k < 3; ++k) {
+    const v8f premul = rgb[k] * alpha;
+    std::memcpy(lanes[k], &premul, sizeof lanes[k]);
+  }
+  std::memcpy(lanes[3], &alpha, sizeof lanes[3]);
+  for (int i = 0; i < 8; ++i)
+    out[i] = glm::vec4(lanes[0][i], lanes[1][i], lanes[2][i], lanes[3][i]);
+}
+#endif
 
 }  // namespace
 
@@ -309,9 +522,45 @@ Lighting Lighting::studio(const Camera& camera) {
   return l;
 }
 
+// Orders the streaming stores below before whatever the thread does next.
+void store_fence() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
+
+// Writes n pixels to dst. The frame is written once and not read again here, so on x86-64 the
+// stores bypass the cache (non-temporal: no read of the lines they replace); the caller
+// fences.
+void write_pixels(glm::vec4* dst, const glm::vec4* src, int n) {
+#if defined(__SSE2__)
+  if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
+    for (int i = 0; i < n; ++i)
+      _mm_stream_ps(reinterpret_cast<float*>(dst + i), _mm_loadu_ps(&src[i].x));
+    return;
+  }
+#endif
+  std::copy(src, src + n, dst);
+}
+
+void fill_pixels(glm::vec4* dst, const glm::vec4& value, int n) {
+#if defined(__SSE2__)
+  if ((reinterpret_cast<std::uintptr_t>(dst) & 15) == 0) {
+    const __m128 v = _mm_loadu_ps(&value.x);
+    for (int i = 0; i < n; ++i) _mm_stream_ps(reinterpret_cast<float*>(dst + i), v);
+    return;
+  }
+#endif
+  std::fill(dst, dst + n, value);
+}
+
 struct Rasterizer::Impl {
   std::vector<DrawState> draws;
   std::vector<ScreenTriangle> triangles;
+  // Scratch of draw(), kept so that a rasterizer drawing frame after frame reuses it.
+  std::vector<std::vector<ScreenTriangle>> parts;
+  std::vector<ScreenVertex> screen;  // per mesh vertex, when inside the frustum
+  std::vector<unsigned> codes;       // per mesh vertex: outcode
 };
 
 Rasterizer::Rasterizer(const RasterOptions& options)
@@ -356,13 +605,18 @@ void run_parallel(std::size_t n, int threads, F&& f) {
 // the result is independent of the number of workers.
 template <class Produce>
 void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out,
-                Produce&& produce) {
+                std::vector<std::vector<ScreenTriangle>>& parts, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
-  std::vector<std::vector<ScreenTriangle>> parts(chunks);
+  if (parts.size() < chunks) parts.resize(chunks);
   run_parallel(chunks, threads, [&](std::size_t c) {
+    parts[c].clear();
+    parts[c].reserve(kChunk);
     produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
   });
-  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  std::size_t total = out.size();
+  for (std::size_t c = 0; c < chunks; ++c) total += parts[c].size();
+  out.reserve(total);
+  for (std::size_t c = 0; c < chunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
 }
 
 void sort_back_to_front(std::vector<ScreenTriangle>& tris, std::size_t from) {
@@ -384,12 +638,38 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
   impl_->draws.push_back(make_state(view, lighting, options));
   const int w = options_.width, h = options_.height;
   const std::size_t first = impl_->triangles.size();
-  run_chunks(mesh.triangles.size(), worker_count(options_.threads), impl_->triangles,
+  const int threads = worker_count(options_.threads);
+  // Every vertex to clip space and, where it is inside the frustum, to the screen, once.
+  auto& screen_of = impl_->screen;
+  auto& codes = impl_->codes;
+  screen_of.resize(nv);
+  codes.resize(nv);
+  run_parallel((nv + kChunk - 1) / kChunk, threads, [&](std::size_t c) {
+    for (std::size_t i = c * kChunk; i < std::min(nv, (c + 1) * kChunk); ++i) {
+      const Vertex& v = mesh.vertices[i];
+      const ClipVertex cv{view.clip_from_world * glm::vec4(v.position, 1.0f),
+                          {v.position, v.normal, v.color, v.uvw}};
+      codes[i] = outcode(cv.clip);
+      if (!codes[i]) screen_of[i] = to_screen(cv, w, h);
+    }
+  });
+  run_chunks(mesh.triangles.size(), threads, impl_->triangles, impl_->parts,
              [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
                std::vector<ClipVertex> poly, scratch;
                std::vector<ScreenVertex> screen;
                for (std::size_t i = begin; i < end; ++i) {
                  const auto& tri = mesh.triangles[i];
+                 const Vertex& flat = mesh.vertices[tri[0]];
+                 if (!(codes[tri[0]] | codes[tri[1]] | codes[tri[2]])) {  // nothing to clip
+                   ScreenTriangle st;
+                   if (setup(screen_of[tri[0]], screen_of[tri[1]], screen_of[tri[2]],
+                             options.cull_back_faces, w, h, draw_id, st)) {
+                     st.normal4 = flat.normal4;
+                     st.texture = flat.texture;
+                     out.push_back(st);
+                   }
+                   continue;
+                 }
                  poly.clear();
                  unsigned all = ~0u, any = 0;
                  for (auto id : tri) {
@@ -406,7 +686,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  if (poly.size() < 3) continue;
                  screen.clear();
                  for (const auto& cv : poly) screen.push_back(to_screen(cv, w, h));
-                 const Vertex& flat = mesh.vertices[tri[0]];
                  for (std::size_t k = 1; k + 1 < screen.size(); ++k) {
                    ScreenTriangle st;
                    if (setup(screen[0], screen[k], screen[k + 1], options.cull_back_faces, w, h,
@@ -430,7 +709,7 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   const float half = 0.5f * std::max(options.line_width, 0.0f);
   const std::size_t first = impl_->triangles.size();
   run_chunks(
-      lines.size(), worker_count(options_.threads), impl_->triangles,
+      lines.size(), worker_count(options_.threads), impl_->triangles, impl_->parts,
       [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
         for (std::size_t i = begin; i < end; ++i) {
           const LineSegment& s = lines[i];
@@ -479,6 +758,12 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
 }
 
 Image Rasterizer::render() const {
+  Image out;
+  render(out);
+  return out;
+}
+
+void Rasterizer::render(Image& out) const {
   const int width = options_.width, height = options_.height;
   const int s = options_.samples_per_axis, spp = s * s;
   const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
@@ -501,8 +786,13 @@ Image Rasterizer::render() const {
       off_x[j * s + i] = ((2 * i + 1) * kSubpixel) / (2 * s);
       off_y[j * s + i] = ((2 * j + 1) * kSubpixel) / (2 * s);
     }
+#ifdef CW4D_RASTER_SIMD
+  const bool simd = simd_available();
+#endif
 
-  Image out(width, height);
+  out.width = width;
+  out.height = height;
+  out.pixels.resize(static_cast<std::size_t>(width) * height);
   const glm::vec4 background = options_.background;
   run_parallel(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
@@ -510,59 +800,144 @@ Image Rasterizer::render() const {
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
     const auto& bin = bins[tile];
     if (bin.empty()) {
-      for (int y = 0; y < th; ++y)
-        for (int x = 0; x < tw; ++x) out.at(tx0 + x, ty0 + y) = background;
+      for (int y = 0; y < th; ++y) fill_pixels(&out.at(tx0, ty0 + y), background, tw);
+      store_fence();
       return;
     }
+    struct Entry {
+      std::uint16_t pixel;  // y * kTile + x in the tile
+      std::uint16_t q;      // the first sample showing the triangle
+      std::uint32_t mask;   // every sample of the pixel showing it
+    };
+    constexpr std::uint32_t kBatch = 8;
     thread_local std::vector<glm::vec4> color;
     thread_local std::vector<float> depth;
-    thread_local std::vector<std::uint32_t> visible;  // opaque triangle per sample, not shaded yet
+    // Opaque triangle per sample, not shaded yet, as its position in this tile's bin.
+    thread_local std::vector<std::uint32_t> visible;
+    thread_local std::vector<Edges> edges;  // per bin position
+    // Per bin position: up to kBatch samples waiting to be shaded, and how many.
+    thread_local std::vector<Entry> waiting;
+    thread_local std::vector<std::uint8_t> waiting_count;
     const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
     color.assign(samples, background);
     depth.assign(samples, 1.0f);
     visible.assign(samples, no_index);
+    edges.resize(bin.size());
+    waiting.resize(bin.size() * kBatch);
+    waiting_count.assign(bin.size(), 0);
     bool pending = false;
 
+    auto sample_xy = [&](const Entry& en, std::int64_t& X, std::int64_t& Y) {
+      X = static_cast<std::int64_t>(tx0 + en.pixel % kTile) * kSubpixel + off_x[en.q];
+      Y = static_cast<std::int64_t>(ty0 + en.pixel / kTile) * kSubpixel + off_y[en.q];
+    };
+    auto store_premul = [&](const Entry& en, const glm::vec4& premul) {
+      const std::size_t base = static_cast<std::size_t>(en.pixel) * spp;
+      for (std::uint32_t m = en.mask; m; m &= m - 1)
+        color[base + static_cast<unsigned>(__builtin_ctz(m))] = premul;
+    };
+    // Shades n waiting samples of the triangle at bin position id.
+    auto shade_batch = [&](std::uint32_t id, const Entry* batch, std::uint32_t n) {
+      const ScreenTriangle& t = tris[bin[id]];
+      const DrawState& d = draws[t.draw];
+      const Edges& e = edges[id];
+#ifdef CW4D_RASTER_SIMD
+      if (simd && simd_shadable(d, t)) {
+        double X[kBatch], Y[kBatch];
+        for (std::uint32_t i = 0; i < kBatch; ++i) {
+          std::int64_t x, y;
+          sample_xy(batch[std::min(i, n - 1)], x, y);
+          X[i] = static_cast<double>(x);
+          Y[i] = static_cast<double>(y);
+        }
+        glm::vec4 c[kBatch];
+        shade8(d, t, e, X, Y, c);
+        for (std::uint32_t i = 0; i < n; ++i) store_premul(batch[i], c[i]);
+        return;
+      }
+#endif
+      for (std::uint32_t i = 0; i < n; ++i) {
+        std::int64_t X, Y;
+        sample_xy(batch[i], X, Y);
+        const glm::vec4 c = shade_at(d, t, e, X, Y);
+        const float alpha = std::clamp(c.a, 0.0f, 1.0f);
+        store_premul(batch[i], glm::vec4(glm::vec3(c) * alpha, alpha));
+      }
+    };
+    // Queues samples of triangle id; every full batch is shaded at once.
+    auto enqueue = [&](std::uint32_t id, Entry en, std::uint32_t run) {
+      Entry* batch = &waiting[static_cast<std::size_t>(id) * kBatch];
+      std::uint32_t n = waiting_count[id];
+      for (std::uint32_t r = 0; r < run; ++r, ++en.pixel) {
+        batch[n++] = en;
+        if (n == kBatch) {
+          shade_batch(id, batch, n);
+          n = 0;
+        }
+      }
+      waiting_count[id] = static_cast<std::uint8_t>(n);
+    };
+
     // Deferred shading of the opaque samples: each pixel shades each distinct triangle left
-    // visible in it once (at its first sample), so hidden fragments cost no lighting.
+    // visible in it once (at its first sample), so hidden fragments cost no lighting. Samples
+    // wait per triangle until eight can be shaded at once (where the SIMD path applies).
     auto flush = [&] {
       if (!pending) return;
       pending = false;
-      std::uint32_t cached_id = no_index;  // neighbouring samples mostly show the same triangle
-      Edges e{};
-      for (int y = 0; y < th; ++y)
+      for (int y = 0; y < th; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * kTile;
+        if (spp == 1) {  // runs of one triangle along the row
+          for (int x = 0; x < tw;) {
+            const std::uint32_t id = visible[row + x];
+            if (id == no_index) {
+              ++x;
+              continue;
+            }
+            int end = x + 1;
+            while (end < tw && visible[row + end] == id) ++end;
+            std::fill(visible.begin() + static_cast<std::ptrdiff_t>(row + x),
+                      visible.begin() + static_cast<std::ptrdiff_t>(row + end), no_index);
+            enqueue(id, {static_cast<std::uint16_t>(row + x), 0, 1u},
+                    static_cast<std::uint32_t>(end - x));
+            x = end;
+          }
+          continue;
+        }
         for (int x = 0; x < tw; ++x) {
-          const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
+          const std::size_t base = (row + x) * spp;
           for (int q = 0; q < spp; ++q) {
             const std::uint32_t id = visible[base + q];
             if (id == no_index) continue;
-            const ScreenTriangle& t = tris[id];
-            if (id != cached_id) {
-              e = edges_of(t);
-              cached_id = id;
-            }
-            const std::int64_t X = static_cast<std::int64_t>(tx0 + x) * kSubpixel + off_x[q];
-            const std::int64_t Y = static_cast<std::int64_t>(ty0 + y) * kSubpixel + off_y[q];
-            const glm::vec4 c = shade_at(draws[t.draw], t, e, X, Y);
-            const float alpha = std::clamp(c.a, 0.0f, 1.0f);
-            const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+            std::uint32_t mask = 0;
             for (int q2 = q; q2 < spp; ++q2)
               if (visible[base + q2] == id) {
-                color[base + q2] = premul;
+                mask |= 1u << q2;
                 visible[base + q2] = no_index;
               }
+            enqueue(id, {static_cast<std::uint16_t>(row + x), static_cast<std::uint16_t>(q), mask},
+                    1);
           }
+        }
+      }
+      for (std::uint32_t id = 0; id < bin.size(); ++id)
+        if (waiting_count[id]) {
+          shade_batch(id, &waiting[static_cast<std::size_t>(id) * kBatch], waiting_count[id]);
+          waiting_count[id] = 0;
         }
     };
 
     std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
-    for (std::uint32_t ti : bin) {
-      const ScreenTriangle& t = tris[ti];
+    std::vector<double> z_sample(spp);
+    for (std::uint32_t j = 0; j < bin.size(); ++j) {
+      const ScreenTriangle& t = tris[bin[j]];
       const DrawState& d = draws[t.draw];
       const bool test = d.options.depth_test, write = d.options.depth_write;
       const bool over = d.options.blend == Blend::Over;
+      const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
+      const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
+      if (px0 > px1 || py0 > py1) continue;
       if (over) flush();  // blending needs the colors underneath
-      const Edges e = edges_of(t);
+      const Edges& e = edges[j] = edges_of(t);
       for (int k = 0; k < 3; ++k)
         for (int q = 0; q < spp; ++q)
           edge_sample[k * spp + q] = e.A[k] * off_x[q] + e.B[k] * off_y[q];
@@ -570,11 +945,14 @@ Image Rasterizer::render() const {
       for (int k = 0; k < 3; ++k)
         max_offset[k] =
             *std::max_element(edge_sample.begin() + k * spp, edge_sample.begin() + (k + 1) * spp);
-      const int px0 = std::max(t.x0, tx0), px1 = std::min(t.x1, tx0 + tw - 1);
-      const int py0 = std::max(t.y0, ty0), py1 = std::min(t.y1, ty0 + th - 1);
-      if (px0 > px1 || py0 > py1) continue;
+      const bool wide = spp > 1 || px1 - px0 >= kNarrow;
       const std::int64_t step0 = e.A[0] * kSubpixel, step1 = e.A[1] * kSubpixel,
                          step2 = e.A[2] * kSubpixel;
+      // Depth along a row, stepped in double from its exact value at the span's first pixel.
+      const double z_step =
+          (static_cast<double>(step0) * t.z[0] + static_cast<double>(step1) * t.z[1] +
+           static_cast<double>(step2) * t.z[2]) *
+          e.inv_area;
       for (int py = py0; py <= py1; ++py) {
         const std::int64_t Y = static_cast<std::int64_t>(py) * kSubpixel;
         const std::int64_t X0 = static_cast<std::int64_t>(px0) * kSubpixel;
@@ -583,10 +961,10 @@ Image Rasterizer::render() const {
         std::int64_t e1 = e.A[1] * X0 + e.B[1] * Y + e.C[1] + e.bias[1];
         std::int64_t e2 = e.A[2] * X0 + e.B[2] * Y + e.C[2] + e.bias[2];
         // The span of the row where some sample can be inside (conservative by a pixel): each
-        // edge function is linear along the row.
+        // edge function is linear along the row. Narrow boxes test every pixel instead.
         int lo = px0, hi = px1;
         const std::int64_t row_e[3] = {e0, e1, e2}, steps[3] = {step0, step1, step2};
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3 && wide; ++k) {
           const std::int64_t best = row_e[k] + max_offset[k];
           if (steps[k] == 0) {
             if (best < 0) hi = lo - 1;
@@ -603,32 +981,78 @@ Image Rasterizer::render() const {
         e0 += step0 * (lo - px0);
         e1 += step1 * (lo - px0);
         e2 += step2 * (lo - px0);
+        for (int q = 0; q < spp; ++q) {
+          const double l0 = static_cast<double>(e0 + edge_sample[q] - e.bias[0]) * e.inv_area;
+          const double l1 = static_cast<double>(e1 + edge_sample[spp + q] - e.bias[1]) * e.inv_area;
+          const double l2 =
+              static_cast<double>(e2 + edge_sample[2 * spp + q] - e.bias[2]) * e.inv_area;
+          z_sample[q] = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
+        }
+        if (spp == 1 && !over) {  // the common case, without the loop over samples
+          const std::size_t row = static_cast<std::size_t>(py - ty0) * kTile - tx0;
+          const std::int64_t w[3] = {e0 + edge_sample[0], e1 + edge_sample[1], e2 + edge_sample[2]};
+          if (hi - lo < kNarrow) {  // testing each pixel is cheaper than three divisions
+            bool any = false;
+            std::int64_t w0 = w[0], w1 = w[1], w2 = w[2];
+            for (int px = lo; px <= hi; ++px, w0 += step0, w1 += step1, w2 += step2) {
+              if ((w0 | w1 | w2) < 0) continue;
+              const std::size_t at = row + px;
+              const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
+              if (test && !(z < depth[at])) continue;
+              if (write) depth[at] = z;
+              visible[at] = j;
+              any = true;
+            }
+            pending |= any;
+            continue;
+          }
+          // The exact run of pixel centres inside all three edges: w + step * i >= 0.
+          std::int64_t first_i = 0, last_i = hi - lo;
+          for (int k = 0; k < 3; ++k) {
+            if (steps[k] > 0) {
+              if (w[k] < 0) first_i = std::max(first_i, (-w[k] + steps[k] - 1) / steps[k]);
+            } else if (w[k] < 0) {
+              last_i = -1;
+            } else if (steps[k] < 0) {
+              last_i = std::min(last_i, w[k] / -steps[k]);
+            }
+          }
+          bool any = false;
+          for (int px = lo + static_cast<int>(first_i); px <= lo + last_i; ++px) {
+            const std::size_t at = row + px;
+            const float z = static_cast<float>(z_sample[0] + z_step * (px - lo));
+            if (test && !(z < depth[at])) continue;
+            if (write) depth[at] = z;
+            visible[at] = j;
+            any = true;
+          }
+          pending |= any;
+          continue;
+        }
         for (int px = lo; px <= hi; ++px, e0 += step0, e1 += step1, e2 += step2) {
           const std::size_t base = (static_cast<std::size_t>(py - ty0) * kTile + (px - tx0)) * spp;
+          const double dz = z_step * (px - lo);
           unsigned mask = 0;
-          int first = -1;
+          int first_q = -1;
           for (int q = 0; q < spp; ++q) {
             const std::int64_t w0 = e0 + edge_sample[q], w1 = e1 + edge_sample[spp + q],
                                w2 = e2 + edge_sample[2 * spp + q];
             if ((w0 | w1 | w2) < 0) continue;
-            const double l0 = static_cast<double>(w0 - e.bias[0]) * e.inv_area;
-            const double l1 = static_cast<double>(w1 - e.bias[1]) * e.inv_area;
-            const double l2 = static_cast<double>(w2 - e.bias[2]) * e.inv_area;
-            const float z = static_cast<float>(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
+            const float z = static_cast<float>(z_sample[q] + dz);
             if (test && !(z < depth[base + q])) continue;
             mask |= 1u << q;
             if (write) depth[base + q] = z;
-            if (first < 0) first = q;
+            if (first_q < 0) first_q = q;
           }
           if (!mask) continue;
           if (!over) {
             for (int q = 0; q < spp; ++q)
-              if (mask & (1u << q)) visible[base + q] = ti;
+              if (mask & (1u << q)) visible[base + q] = j;
             pending = true;
             continue;
           }
-          const std::int64_t X = static_cast<std::int64_t>(px) * kSubpixel + off_x[first];
-          const std::int64_t Ys = Y + off_y[first];
+          const std::int64_t X = static_cast<std::int64_t>(px) * kSubpixel + off_x[first_q];
+          const std::int64_t Ys = Y + off_y[first_q];
           const glm::vec4 c = shade_at(d, t, e, X, Ys);
           const float alpha = std::clamp(c.a, 0.0f, 1.0f);
           const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
@@ -638,6 +1062,12 @@ Image Rasterizer::render() const {
       }
     }
     flush();
+    if (spp == 1) {
+      for (int y = 0; y < th; ++y)
+        write_pixels(&out.at(tx0, ty0 + y), &color[static_cast<std::size_t>(y) * kTile], tw);
+      store_fence();
+      return;
+    }
     const float inv_spp = 1.0f / static_cast<float>(spp);
     for (int y = 0; y < th; ++y)
       for (int x = 0; x < tw; ++x) {
@@ -647,7 +1077,6 @@ Image Rasterizer::render() const {
         out.at(tx0 + x, ty0 + y) = sum * inv_spp;
       }
   });
-  return out;
 }
 
 }  // namespace cw4d::render

@@ -479,4 +479,41 @@ Section to_section(const TetSection& slice, const Complex& model) {
   return sec;
 }
 
+CornerUvw tet_section_uvw(const TetSection& slice, const Section& section) {
+  const Complex& c = section.complex;
+  const std::size_t faces = c.top_rank() >= 2 ? c.count(2) : 0;
+  if (faces != slice.triangle_count())
+    throw InputError("tet section UVW: the section has " + std::to_string(faces) +
+                     " faces, the slice " + std::to_string(slice.triangle_count()) + " triangles");
+  CornerUvw out;
+  out.offset.resize(faces + 1);
+  out.uvw.resize(3, static_cast<Eigen::Index>(3 * faces));
+  for (std::size_t f = 0; f < faces; ++f) {
+    out.offset[f] = static_cast<std::uint32_t>(3 * f);
+    const auto cycle = c.face_cycle(static_cast<std::uint32_t>(f));
+    if (cycle.size() != 3)
+      throw InputError("tet section UVW: face " + std::to_string(f) + " is not a triangle");
+    // Face f is triangle f (to_section keeps their order); its corners are matched by position,
+    // which to_section copied from the slice (welded vertices: the first corner's copy, equal
+    // to within rounding for the same crossing).
+    for (std::size_t j = 0; j < 3; ++j) {
+      const Eigen::Vector3d p = c.position(cycle[j]);
+      std::size_t best = 0;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < 3; ++k) {
+        const double d =
+            (slice.positions.col(static_cast<Eigen::Index>(3 * f + k)) - p).squaredNorm();
+        if (d < best_d) {
+          best_d = d;
+          best = k;
+        }
+      }
+      out.uvw.col(static_cast<Eigen::Index>(3 * f + j)) =
+          slice.uvw.col(static_cast<Eigen::Index>(3 * f + best)).cast<float>();
+    }
+  }
+  out.offset[faces] = static_cast<std::uint32_t>(3 * faces);
+  return out;
+}
+
 }  // namespace cw4d

@@ -1,6 +1,8 @@
 #pragma once
 // Animated pictures: a sequence of equally sized frames as an animated WebP, encoded by
-// libwebp's animation encoder (WebPAnimEncoder of libwebpmux, Debian's libwebp-dev).
+// libwebp's animation encoder (WebPAnimEncoder of libwebpmux, Debian's libwebp-dev), or as an
+// animated GIF through giflib (Debian's libgif-dev: each frame median-cut to its own 256-color
+// table by GifQuantizeBuffer, the delay in hundredths of a second, the NETSCAPE2.0 loop block).
 #include <string>
 #include <vector>
 
@@ -24,5 +26,16 @@ std::string encode_webp_animation(const std::vector<Image8>& frames,
 /// Writes it through a temporary file and a rename (nothing half-written on failure).
 void write_webp_animation(const std::string& path, const std::vector<Image8>& frames,
                           const AnimationOptions& options = {});
+
+/// The bytes of an animated GIF of `frames` (8-bit sRGB, 3 or 4 channels, all the same size;
+/// alpha is dropped). frame_ms is rounded to hundredths of a second (at least 1); lossless and
+/// quality do not apply (GIF has 256 colors per frame).
+/// \throw InputError as encode_webp_animation (GIF sides up to 65535); Error when giflib fails.
+std::string encode_gif_animation(const std::vector<Image8>& frames,
+                                 const AnimationOptions& options = {});
+
+/// Writes it through a temporary file and a rename (nothing half-written on failure).
+void write_gif_animation(const std::string& path, const std::vector<Image8>& frames,
+                         const AnimationOptions& options = {});
 
 }  // namespace cw4d::render

@@ -144,11 +144,14 @@ class Rasterizer {
                   const DrawOptions& options = {});
   /// Screen triangles queued so far (after clipping and culling).
   std::size_t queued_triangles() const;
-  /// Drops every queued draw.
+  /// Drops every queued draw (keeping the storage, for the next frame).
   void clear();
 
   /// Rasterizes everything queued: linear premultiplied RGBA, options().width x height.
   Image render() const;
+  /// The same into `out`, reusing its storage when it has that size already (every pixel is
+  /// written), as a frame loop would.
+  void render(Image& out) const;
 
  private:
   struct Impl;

@@ -12,6 +12,7 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/section/uvw.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 
 namespace cw4d {
@@ -80,5 +81,11 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 /// the diagonals the tetrahedralization added: consumers that look up model edges must skip
 /// those (section_uvw cannot be used on it; the slice carries its own uvw).
 Section to_section(const TetSection& slice, const Complex& model);
+
+/// The texture coordinates of `section` = to_section(slice, model), corner by corner from the
+/// slice's own UVW (interpolated along the cut tetrahedron edges), in the layout section_uvw
+/// gives for the CW path, so that the exporters write both alike.
+/// \throw InputError when `section` is not to_section(slice, ...) (other face count or corners).
+CornerUvw tet_section_uvw(const TetSection& slice, const Section& section);
 
 }  // namespace cw4d
