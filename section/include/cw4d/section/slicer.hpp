@@ -295,6 +295,25 @@ class Slicer {
   std::vector<char> layer_bad_;
   std::vector<std::uint32_t> sweep_order_;
   std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
+  // The output-sensitive sweep in R^4 (src/sweep.cpp): the section's structure in model terms
+  // (crossing edges, each cut face's two crossing edges, each cut cell's loop of faces), kept
+  // from layer to layer and updated only in the star of each vertex the plane passes.
+  struct SweepState {
+    std::vector<std::uint32_t> vertex_edge_offsets, vertex_edges, by_height;
+    std::vector<std::uint8_t> edge_in, face_state, cell_state;  // 0 uncut, 1 cut, 2 not kernel
+    std::vector<std::uint32_t> edges, faces, cells;             // the cut ones, ascending
+    std::vector<std::uint32_t> face_tail, face_head, cell_loop, cell_size, loops;
+    std::vector<std::uint32_t> stamp_e, stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
+    std::vector<std::uint32_t> near_e, near_f, near_c, entering, merged, vertex_index, edge_index;
+    std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
+  };
+  SweepState sweep_;
+  void sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
+                    std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
+                    const AffineTransform& xf, const Hyperplane& plane);
+  void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
+  std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
+  std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
   FallbackReason reason_ = FallbackReason::None;
   bool fail(FallbackReason r) {
