@@ -138,6 +138,10 @@ struct SliceBuffers {
   bool general = false;  ///< true when the general path made these buffers
   FallbackReason fallback = FallbackReason::None;  ///< why, when general
   bool reused_topology = false;  ///< true when the topology cache answered the last slice
+  /// Set by SceneSlicer::slice when it culled this object: the buffers are empty and were
+  /// written by the slice that culled it first (their plane is that one's); cleared when it
+  /// cuts the object again.
+  bool culled = false;
 
   std::size_t count(int rank) const {
     if (rank < 0) return 0;
@@ -312,6 +316,10 @@ class Slicer {
                     std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
                     const AffineTransform& xf, const Hyperplane& plane);
   void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
+  // slice() with the normal's part of the placement already made (src/scene_slicer.cpp).
+  friend class SceneSlicer;
+  void slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+                  const AffineTransform& xf, SliceBuffers& out, const SliceOptions& options);
   std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
   std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
@@ -349,13 +357,21 @@ class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
   std::size_t size() const { return objects_.size(); }
-  /// out[i] is the section of object i (empty when culled); identical for every thread count
-  /// and with or without culling. threads = 0 uses std::thread::hardware_concurrency().
+  /// out[i] is the section of object i: for the objects of touched_objects() exactly what
+  /// Slicer::slice gives (identical for every thread count and with or without culling); a
+  /// culled object's buffers are empty with SliceBuffers::culled set. A culled object costs only
+  /// its sphere test: buffers already so marked are not rewritten (their plane is that of the
+  /// slice that culled the object first). threads = 0 uses std::thread::hardware_concurrency().
+  /// Each touched object's placement of the plane in model space is kept while the normal
+  /// stays the same (the transforms are fixed), so a sweep or animation of offsets redoes only
+  /// the offset's part.
   /// \throw InputError when the plane's dimension differs from the scene's.
   void slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads = 1,
              const SliceOptions& options = {});
   /// Objects the last slice() did not cull.
-  std::size_t touched() const { return touched_; }
+  std::size_t touched() const { return touched_.size(); }
+  /// Their indices, increasing: the entries of out the last slice() cut.
+  std::span<const std::uint32_t> touched_objects() const { return touched_; }
 
  private:
   struct Object {
@@ -366,9 +382,10 @@ class SceneSlicer {
   std::vector<Object> objects_;
   std::vector<double> centres_;  // world-space bounding-sphere centres, dim_ per object
   std::vector<double> reach_;    // their radii plus the culling margin
-  std::vector<char> culled_;
   std::vector<Slicer> slicers_;
-  std::size_t touched_ = 0;
+  std::vector<std::uint32_t> touched_;
+  struct Placements;  // the touched objects' placements for the last normal (scene_slicer.cpp)
+  std::shared_ptr<Placements> placements_;
   int dim_ = 0;
 };
 
