@@ -408,7 +408,7 @@ TEST_CASE("scenes: culled buffers are written once, touched ones exactly as slic
   auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
   auto cell600 = std::make_shared<const Complex>(load_model("600-cell"));
   std::uniform_real_distribution<double> u(-12.0, 12.0);
-  for (int i = 0; i < 240; ++i) {
+  for (int i = 0; i < 300; ++i) {  // (from 256 objects a repeated normal culls by height)
     SceneObject obj;
     obj.complex = i % 5 == 0 ? cell600 : i % 3 == 0 ? cell24 : tesseract;
     obj.model = "m";

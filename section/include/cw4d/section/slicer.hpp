@@ -160,6 +160,8 @@ struct SliceBuffers {
 
  private:
   friend class Slicer;
+  friend class SceneSlicer;
+  std::uint64_t scene_call_ = 0;  // in out[0]: the SceneSlicer::slice call that wrote the vector
   std::vector<Incidence> spare_tables_;
   std::vector<std::vector<std::uint32_t>> spare_sources_;
   // Topology cache: what the last fast slice decided.
@@ -360,8 +362,11 @@ class SceneSlicer {
   /// out[i] is the section of object i: for the objects of touched_objects() exactly what
   /// Slicer::slice gives (identical for every thread count and with or without culling); a
   /// culled object's buffers are empty with SliceBuffers::culled set. A culled object costs only
-  /// its sphere test: buffers already so marked are not rewritten (their plane is that of the
-  /// slice that culled the object first). threads = 0 uses std::thread::hardware_concurrency().
+  /// its sphere test: when `out` is the vector the previous call wrote (recognised by a mark in
+  /// out[0]; any other vector, or a copy of an older state, is written whole), the buffers of
+  /// objects culled then and now are not rewritten (their plane stays that of the slice that
+  /// culled the object first), so leave them as slice() left them between calls.
+  /// threads = 0 uses std::thread::hardware_concurrency().
   /// Each touched object's placement of the plane in model space is kept while the normal
   /// stays the same (the transforms are fixed), so a sweep or animation of offsets redoes only
   /// the offset's part.
@@ -384,6 +389,8 @@ class SceneSlicer {
   std::vector<double> reach_;    // their radii plus the culling margin
   std::vector<Slicer> slicers_;
   std::vector<std::uint32_t> touched_;
+  std::vector<char> marked_;  // out[i] holds the empty culled buffers (for the vector last written)
+  std::uint64_t call_ = 0;    // the mark of the last call (unique across SceneSlicers)
   struct Placements;  // the touched objects' placements for the last normal (scene_slicer.cpp)
   std::shared_ptr<Placements> placements_;
   int dim_ = 0;
