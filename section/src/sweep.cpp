@@ -224,19 +224,28 @@ std::uint32_t next_stamp(std::uint32_t& stamp,
   return stamp;
 }
 
-// list := its elements still members, merged with `entering` (none of them in list).
-template <class Member>
+// list := list without `leaving` (members of it), with `entering` (not in it), in order.
 void merge_members(std::vector<std::uint32_t>& list, std::vector<std::uint32_t>& entering,
-                   std::vector<std::uint32_t>& tmp, Member&& member) {
-  std::sort(entering.begin(), entering.end());
+                   std::vector<std::uint32_t>& leaving, std::vector<std::uint32_t>& tmp) {
+  if (entering.size() > 1) std::sort(entering.begin(), entering.end());
+  if (leaving.size() > 1) std::sort(leaving.begin(), leaving.end());
+  if (entering.size() + leaving.size() <= 1) {  // one change: in place
+    if (!entering.empty())
+      list.insert(std::upper_bound(list.begin(), list.end(), entering[0]), entering[0]);
+    if (!leaving.empty()) list.erase(std::lower_bound(list.begin(), list.end(), leaving[0]));
+    return;
+  }
   tmp.clear();
-  std::size_t j = 0;
+  std::size_t a = 0, b = 0;
   for (std::uint32_t x : list) {
-    if (!member(x)) continue;
-    while (j < entering.size() && entering[j] < x) tmp.push_back(entering[j++]);
+    if (b < leaving.size() && leaving[b] == x) {
+      ++b;
+      continue;
+    }
+    while (a < entering.size() && entering[a] < x) tmp.push_back(entering[a++]);
     tmp.push_back(x);
   }
-  while (j < entering.size()) tmp.push_back(entering[j++]);
+  while (a < entering.size()) tmp.push_back(entering[a++]);
   list.swap(tmp);
 }
 
@@ -319,6 +328,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   // Rank 1: the edges at the moved vertices.
   w.near_e.clear();
   w.entering.clear();
+  w.leaving.clear();
   if (rebuild) {
     w.edge_in.assign(ne, 0);
     w.face_state.assign(nf, 0);
@@ -343,13 +353,15 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
         w.near_e.push_back(e);
         const std::uint8_t in = side_[edge_ends[2 * e]] != side_[edge_ends[2 * e + 1]];
         if (in && !w.edge_in[e]) w.entering.push_back(e);
+        if (!in && w.edge_in[e]) w.leaving.push_back(e);
         w.edge_in[e] = in;
       }
-    merge_members(w.edges, w.entering, w.merged, [&](std::uint32_t e) { return w.edge_in[e]; });
+    merge_members(w.edges, w.entering, w.leaving, w.merged);
   }
   // Rank 2: the faces on those edges.
   w.near_f.clear();
   w.entering.clear();
+  w.leaving.clear();
   const std::uint32_t* edge_up = m.up_offsets_[1].data();
   const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
   for (std::uint32_t e : w.near_e)
@@ -361,10 +373,10 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       const std::uint8_t was = w.face_state[f], now = sweep_face(m, f);
       w.bad += (now == 2) - (was == 2);
       if (now == 1 && was != 1) w.entering.push_back(f);
+      if (now != 1 && was == 1) w.leaving.push_back(f);
       w.face_state[f] = now;
     }
-  merge_members(w.faces, w.entering, w.merged,
-                [&](std::uint32_t f) { return w.face_state[f] == 1; });
+  merge_members(w.faces, w.entering, w.leaving, w.merged);
   // Rank 3: the cells on those faces (after every face is renewed).
   w.near_c.clear();
   const std::uint32_t* face_up = m.up_offsets_[2].data();
@@ -377,14 +389,15 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       w.near_c.push_back(c);
     }
   w.entering.clear();
+  w.leaving.clear();
   for (std::uint32_t c : w.near_c) {
     const std::uint8_t was = w.cell_state[c], now = sweep_cell(m, c);
     w.bad += (now == 2) - (was == 2);
     if (now == 1 && was != 1) w.entering.push_back(c);
+    if (now != 1 && was == 1) w.leaving.push_back(c);
     w.cell_state[c] = now;
   }
-  merge_members(w.cells, w.entering, w.merged,
-                [&](std::uint32_t c) { return w.cell_state[c] == 1; });
+  merge_members(w.cells, w.entering, w.leaving, w.merged);
   // Recomputed cells appended their loops: compact when the dead ones dominate.
   std::size_t live = 0;
   for (std::uint32_t c : w.cells) live += w.cell_size[c];

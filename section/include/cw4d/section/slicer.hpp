@@ -310,7 +310,8 @@ class Slicer {
     std::vector<std::uint32_t> edges, faces, cells;             // the cut ones, ascending
     std::vector<std::uint32_t> face_tail, face_head, cell_loop, cell_size, loops;
     std::vector<std::uint32_t> stamp_e, stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
-    std::vector<std::uint32_t> near_e, near_f, near_c, entering, merged, vertex_index, edge_index;
+    std::vector<std::uint32_t> near_e, near_f, near_c, entering, leaving, merged;
+    std::vector<std::uint32_t> vertex_index, edge_index;
     std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
   };
   SweepState sweep_;
