@@ -224,29 +224,21 @@ std::uint32_t next_stamp(std::uint32_t& stamp,
   return stamp;
 }
 
-// list := list without `leaving` (members of it), with `entering` (not in it), in order.
-void merge_members(std::vector<std::uint32_t>& list, std::vector<std::uint32_t>& entering,
-                   std::vector<std::uint32_t>& leaving, std::vector<std::uint32_t>& tmp) {
-  if (entering.size() > 1) std::sort(entering.begin(), entering.end());
-  if (leaving.size() > 1) std::sort(leaving.begin(), leaving.end());
-  if (entering.size() + leaving.size() <= 1) {  // one change: in place
-    if (!entering.empty())
-      list.insert(std::upper_bound(list.begin(), list.end(), entering[0]), entering[0]);
-    if (!leaving.empty()) list.erase(std::lower_bound(list.begin(), list.end(), leaving[0]));
-    return;
-  }
-  tmp.clear();
-  std::size_t a = 0, b = 0;
-  for (std::uint32_t x : list) {
-    if (b < leaving.size() && leaving[b] == x) {
-      ++b;
-      continue;
-    }
-    while (a < entering.size() && entering[a] < x) tmp.push_back(entering[a++]);
-    tmp.push_back(x);
-  }
-  while (a < entering.size()) tmp.push_back(entering[a++]);
-  list.swap(tmp);
+// Sets or clears bit x.
+inline void put_bit(std::vector<std::uint64_t>& bits, std::uint32_t x, bool on) {
+  const std::uint64_t b = std::uint64_t{1} << (x & 63);
+  if (on)
+    bits[x >> 6] |= b;
+  else
+    bits[x >> 6] &= ~b;
+}
+
+// list := the set bits, increasing.
+void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t>& list) {
+  list.clear();
+  for (std::size_t w = 0; w < bits.size(); ++w)
+    for (std::uint64_t b = bits[w]; b; b &= b - 1)
+      list.push_back(static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b)));
 }
 
 }  // namespace
@@ -325,24 +317,25 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
   const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_e, &w.stamp_f, &w.stamp_c});
-  // Rank 1: the edges at the moved vertices.
+  // Rank 1: the edges at the moved vertices. The cut elements of each rank are kept as bits
+  // (listed in increasing order after a change).
   w.near_e.clear();
-  w.entering.clear();
-  w.leaving.clear();
+  bool changed = rebuild;
   if (rebuild) {
     w.edge_in.assign(ne, 0);
     w.face_state.assign(nf, 0);
     w.cell_state.assign(nc, 0);
-    w.edges.clear();
-    w.faces.clear();
-    w.cells.clear();
+    w.edge_bits.assign((ne + 63) / 64, 0);
+    w.face_bits.assign((nf + 63) / 64, 0);
+    w.cell_bits.assign((nc + 63) / 64, 0);
     w.loops.clear();
+    w.live = 0;
     w.bad = 0;
     for (std::uint32_t e = 0; e < ne; ++e)
       if (side_[edge_ends[2 * e]] != side_[edge_ends[2 * e + 1]]) {
         w.edge_in[e] = 1;
         w.near_e.push_back(e);
-        w.edges.push_back(e);
+        put_bit(w.edge_bits, e, true);
       }
   } else {
     for (std::uint32_t v : moved)
@@ -352,16 +345,14 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
         w.stamp_e[e] = st;
         w.near_e.push_back(e);
         const std::uint8_t in = side_[edge_ends[2 * e]] != side_[edge_ends[2 * e + 1]];
-        if (in && !w.edge_in[e]) w.entering.push_back(e);
-        if (!in && w.edge_in[e]) w.leaving.push_back(e);
+        if (in != w.edge_in[e]) put_bit(w.edge_bits, e, in), changed = true;
         w.edge_in[e] = in;
       }
-    merge_members(w.edges, w.entering, w.leaving, w.merged);
   }
+  if (changed) list_bits(w.edge_bits, w.edges);
   // Rank 2: the faces on those edges.
   w.near_f.clear();
-  w.entering.clear();
-  w.leaving.clear();
+  changed = rebuild;
   const std::uint32_t* edge_up = m.up_offsets_[1].data();
   const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
   for (std::uint32_t e : w.near_e)
@@ -372,11 +363,10 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       w.near_f.push_back(f);
       const std::uint8_t was = w.face_state[f], now = sweep_face(m, f);
       w.bad += (now == 2) - (was == 2);
-      if (now == 1 && was != 1) w.entering.push_back(f);
-      if (now != 1 && was == 1) w.leaving.push_back(f);
+      if ((now == 1) != (was == 1)) put_bit(w.face_bits, f, now == 1), changed = true;
       w.face_state[f] = now;
     }
-  merge_members(w.faces, w.entering, w.leaving, w.merged);
+  if (changed) list_bits(w.face_bits, w.faces);
   // Rank 3: the cells on those faces (after every face is renewed).
   w.near_c.clear();
   const std::uint32_t* face_up = m.up_offsets_[2].data();
@@ -388,20 +378,19 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       w.stamp_c[c] = st;
       w.near_c.push_back(c);
     }
-  w.entering.clear();
-  w.leaving.clear();
+  changed = rebuild;
   for (std::uint32_t c : w.near_c) {
-    const std::uint8_t was = w.cell_state[c], now = sweep_cell(m, c);
+    const std::uint8_t was = w.cell_state[c];
+    if (was == 1) w.live -= w.cell_size[c];
+    const std::uint8_t now = sweep_cell(m, c);
+    if (now == 1) w.live += w.cell_size[c];
     w.bad += (now == 2) - (was == 2);
-    if (now == 1 && was != 1) w.entering.push_back(c);
-    if (now != 1 && was == 1) w.leaving.push_back(c);
+    if ((now == 1) != (was == 1)) put_bit(w.cell_bits, c, now == 1), changed = true;
     w.cell_state[c] = now;
   }
-  merge_members(w.cells, w.entering, w.leaving, w.merged);
+  if (changed) list_bits(w.cell_bits, w.cells);
   // Recomputed cells appended their loops: compact when the dead ones dominate.
-  std::size_t live = 0;
-  for (std::uint32_t c : w.cells) live += w.cell_size[c];
-  if (w.loops.size() > 4 * live + 4096) {
+  if (w.loops.size() > 4 * w.live + 4096) {
     w.merged.clear();
     for (std::uint32_t c : w.cells) {
       const std::uint32_t b = w.cell_loop[c];

@@ -310,8 +310,10 @@ class Slicer {
     std::vector<std::uint32_t> edges, faces, cells;             // the cut ones, ascending
     std::vector<std::uint32_t> face_tail, face_head, cell_loop, cell_size, loops;
     std::vector<std::uint32_t> stamp_e, stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
-    std::vector<std::uint32_t> near_e, near_f, near_c, entering, leaving, merged;
+    std::vector<std::uint32_t> near_e, near_f, near_c, merged;
     std::vector<std::uint32_t> vertex_index, edge_index;
+    std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones
+    std::size_t live = 0;                                        // entries of the cut cells' loops
     std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
   };
   SweepState sweep_;
