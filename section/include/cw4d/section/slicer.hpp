@@ -202,12 +202,14 @@ class Slicer {
              const SliceOptions& options = {});
 
   /// The sections with the planes {x : normal . x = offsets[i]} (normal need not be unit; it
-  /// is normalised as Hyperplane::from does) in one pass over the model: vertex heights are
-  /// computed once, each edge is bucketed by the first layer it crosses and stays in an active
-  /// set for the layers between its endpoints' heights, and each layer is built from its
-  /// active edges by the slice's own code (faces and cells reached through the marks). out[i]
-  /// is exactly what slice() gives for plane i; layers that need the general path are cut by
-  /// slice().
+  /// is normalised as Hyperplane::from does) in one pass over the model, output-sensitive in
+  /// R^4: vertex heights are computed once, and the section's structure (crossing edges, cut
+  /// faces, each cut cell's loop) is kept from layer to layer in offset order and renewed only
+  /// around the vertices the plane passes; a layer that passes none copies the previous layer's
+  /// connectivity and normals and computes only its crossing parameters and positions. (In R^3
+  /// each layer is built from its active edges, bucketed by the first layer they cross, by the
+  /// slice's own code.) out[i] is exactly what slice() gives for plane i; layers that need the
+  /// general path, or the generic gathering, are cut by slice().
   /// threads > 1 splits the layers, in offset order, into that many groups of consecutive
   /// layers swept at once on their own threads (0: std::thread::hardware_concurrency()); the
   /// buffers are identical for every thread count.
