@@ -109,6 +109,8 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   }
   fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
           two_ends && every_element_bounds(model, fr - 1);
+  for (int k = 0; k <= top_ && fast_; ++k)  // (ids with a free top bit: the coface signs)
+    fast_ = model.count(k) <= kUpIndex;
   if (!fast_) {
     cluster_vertex_ = {0};
     return;
@@ -211,10 +213,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
     }
   }
-  const auto& fnrm = model.facet_normals();
-  facet_normals_.resize(n * nf);
-  for (std::size_t i = 0; i < nf; ++i)
-    for (int j = 0; j < n; ++j) facet_normals_[i * n + j] = fnrm(j, order[fr][i]);
+  // (No copy of the facet normals: a slice reads the complex's through ranks_[fr].model_id.)
   // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
   cluster_sphere_.resize(nc * (n + 1));
   for (std::size_t c = 0; c < nc; ++c) {
@@ -291,8 +290,11 @@ void SliceModel::build_cofaces() {
     const std::size_t rows = above.offsets.size() - 1;
     for (std::uint32_t x = 0; x < rows; ++x)
       for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
-        up_ids_[k][fill[above.ids[i]]++] = x;
+        up_ids_[k][fill[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
   }
+  unit_signs_ = true;
+  for (int k = 2; k <= std::min(top_, 3); ++k)
+    for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
 }
 
 bool SliceModel::compiled_from(const Complex& c) const {

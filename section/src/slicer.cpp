@@ -181,8 +181,10 @@ void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
   const std::vector<std::uint32_t>& off = m.up_offsets_[k];
   const std::vector<std::uint32_t>& ids = m.up_ids_[k];
   std::vector<std::uint64_t>& bits = mark_[k + 1];
-  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i)
-    bits[ids[i] >> 6] |= std::uint64_t{1} << (ids[i] & 63);
+  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) {
+    const std::uint32_t y = ids[i] & SliceModel::kUpIndex;
+    bits[y >> 6] |= std::uint64_t{1} << (y & 63);
+  }
 }
 
 bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
@@ -203,24 +205,27 @@ void Slicer::prepare(const SliceModel& m) {
   const std::size_t nv = m.positions_.size() / m.dim_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
-    std::fill(edge_img_.begin(), edge_img_.end(), 0);
-    std::fill(face_img_.begin(), face_img_.end(), FaceImage{});
     gen_ = 1;
-  }
-  if (top >= 2) {
-    const std::size_t ne = m.ranks_[1].offsets.size() - 1, nf = m.ranks_[2].offsets.size() - 1;
-    if (edge_img_.size() < ne) edge_img_.resize(ne, 0);
-    if (face_img_.size() < nf) face_img_.resize(nf);
   }
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   if (images_.size() < static_cast<std::size_t>(top + 1))
     images_.resize(top + 1), terms_.resize(top + 1);
   if (mark_.size() < static_cast<std::size_t>(top + 1)) mark_.resize(top + 1);
+  // The R^4 kernel needs the images of ranks 3 and up only (cut_upper above its polygons); the
+  // generic gathering sizes the rest when it runs (size_images).
+  const int from = m.dim_ == 4 && top >= 3 ? 3 : 1;
   for (int k = 1; k <= top; ++k) {
     const std::size_t count = m.ranks_[k].offsets.size() - 1;
-    if (images_[k].size() < count) images_[k].resize(count);
+    if (k >= from && images_[k].size() < count) images_[k].resize(count);
     terms_[k].clear();
     if (mark_[k].size() < (count + 63) / 64) mark_[k].resize((count + 63) / 64, 0);
+  }
+}
+
+void Slicer::size_images(const SliceModel& m) {
+  for (int k = 1; k <= m.top_; ++k) {
+    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    if (images_[k].size() < count) images_[k].resize(count);
   }
 }
 
@@ -233,6 +238,8 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   out.dim = n - 1;
   out.plane.normal = pl.plane->normal;
   out.plane.offset = pl.offset;
+  out.frame_normal_.assign(pl.plane->normal.data(), pl.plane->normal.data() + n);
+  out.frame_basis_.assign(pl.basis, pl.basis + n * (n - 1));
   out.coords.clear();
   out.vertex_source.clear();
   section_edge_.clear();
@@ -323,6 +330,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     }
     clear_marks(m);  // something for the generic gathering: it cuts the slice from the start
   }
+  size_images(m);
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
   const SliceModel::Rank& E = m.ranks_[1];
@@ -563,7 +571,7 @@ namespace {
 // nearly parallel to the plane.
 template <int N>
 bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double* M, const double* c,
-                   const double* Nm, const double* facet_normals,
+                   const double* Nm, const double* facet_normals, const std::uint32_t* facet_id,
                    std::span<const std::uint32_t> section_edge, const VertexSource* source,
                    std::span<const std::uint32_t> facet_internal, double* coords, double* normals) {
   constexpr int O = N - 1;
@@ -583,7 +591,8 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
   }
   // Facet normals: the model facets' normals through A^{-T}, projected, unit.
   for (std::size_t f = 0; f < facet_internal.size(); ++f) {
-    const double* nf = facet_normals + facet_internal[f] * N;
+    const std::uint32_t x = facet_internal[f];
+    const double* nf = facet_normals + std::size_t{facet_id ? facet_id[x] : x} * N;
     double y[O], len2 = 0.0;
     for (int r = 0; r < O; ++r) {
       double sum = 0.0;
@@ -609,9 +618,12 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   out.coords.resize(section_edge.size() * o);
   out.facet_normals.resize(facet_internal.size() * o);
   const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
-  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, m.facet_normals_.data(),
-            section_edge, out.vertex_source.data(), facet_internal, out.coords.data(),
-            out.facet_normals.data()))
+  // The compiled copy of the facet normals, or (clustered models) the complex's own.
+  const bool copied = !m.facet_normals_.empty() || m.ranks_[o].model_id.empty();
+  const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
+  const std::uint32_t* fid = copied ? nullptr : m.ranks_[o].model_id.data();
+  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
+            out.vertex_source.data(), facet_internal, out.coords.data(), out.facet_normals.data()))
     return fail(FallbackReason::NearParallel);
   return true;
 }
@@ -662,7 +674,17 @@ Section to_section(const SliceBuffers& b) {
 Section to_section_untested(const SliceBuffers& b) {
   Section sec;
   const int dim = b.dim;
-  sec.frame = HyperplaneFrame(b.plane);
+  // The slice's own basis when it was computed for this very normal (bit for bit: the same
+  // function of the same numbers), else computed.
+  const auto n = b.plane.normal.size();
+  if (b.frame_basis_.size() == static_cast<std::size_t>(n * (n - 1)) &&
+      b.frame_normal_.size() == static_cast<std::size_t>(n) &&
+      std::memcmp(b.frame_normal_.data(), b.plane.normal.data(), n * sizeof(double)) == 0) {
+    sec.frame.plane = b.plane;
+    sec.frame.basis = Eigen::Map<const Eigen::MatrixXd>(b.frame_basis_.data(), n, n - 1);
+  } else {
+    sec.frame = HyperplaneFrame(b.plane);
+  }
   Complex c(dim);
   const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());
   c.set_positions(Eigen::Map<const Eigen::MatrixXd>(b.coords.data(), dim, nv));

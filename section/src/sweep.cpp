@@ -357,7 +357,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
   for (std::uint32_t e : w.near_e)
     for (std::uint32_t i = edge_up[e]; i < edge_up[e + 1]; ++i) {
-      const std::uint32_t f = edge_up_ids[i];
+      const std::uint32_t f = edge_up_ids[i] & SliceModel::kUpIndex;
       if (w.stamp_f[f] == st) continue;
       w.stamp_f[f] = st;
       w.near_f.push_back(f);
@@ -373,7 +373,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   const std::uint32_t* face_up_ids = m.up_ids_[2].data();
   for (std::uint32_t f : w.near_f)
     for (std::uint32_t i = face_up[f]; i < face_up[f + 1]; ++i) {
-      const std::uint32_t c = face_up_ids[i];
+      const std::uint32_t c = face_up_ids[i] & SliceModel::kUpIndex;
       if (w.stamp_c[c] == st) continue;
       w.stamp_c[c] = st;
       w.near_c.push_back(c);

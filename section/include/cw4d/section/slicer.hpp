@@ -65,7 +65,8 @@ struct SliceModelOptions {
 /// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
 /// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
 /// weld distance. Immutable after construction and safe to share between threads. Keeps a
-/// reference to `model`, which must outlive it (the general path cuts the model itself); a
+/// reference to `model`, which must outlive it (the general path cuts the model itself, and a
+/// clustered model's slices read its facet normals); a
 /// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
@@ -102,15 +103,20 @@ class SliceModel {
   std::vector<std::uint32_t> vertex_id_;  // internal vertex -> model vertex (empty: identity)
   std::vector<Rank> ranks_;               // ranks_[k], k = 1..top_ (ranks_[0] unused)
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
-  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach.
+  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
+  // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
   std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
+  static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
+  bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
   std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
   void find_single_solid();
-  std::vector<double> facet_normals_;  // dim_ per internal facet
-  std::vector<double> edge_length_;    // per internal edge
+  // dim_ per internal facet; empty when clustered (the complex's are read through the facets'
+  // model ids: renumbered models are never compared against the complex, see compiled_from).
+  std::vector<double> facet_normals_;
+  std::vector<double> edge_length_;  // per internal edge
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
@@ -172,6 +178,10 @@ struct SliceBuffers {
   std::vector<std::uint32_t> cache_facet_;    // internal facet of each section facet
   bool cache_reflect_ = false;
   bool cache_valid_ = false;
+  // The section frame's basis (hyperplane_basis of frame_normal_, column-major), computed by
+  // the slice for its placement and handed to to_section when the plane still has that normal.
+  std::vector<double> frame_normal_, frame_basis_;
+  friend Section to_section_untested(const SliceBuffers& buffers);
 };
 
 /// The Section of the buffers (as section() returns it, including self_intersecting).
@@ -243,6 +253,7 @@ class Slicer {
   bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
                   SliceBuffers& out);
   void prepare(const SliceModel& m);
+  void size_images(const SliceModel& m);  // (prepare leaves ranks 1, 2 to it in R^4)
   void clear_marks(const SliceModel& m);
   void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   // The crossing parameter of edge e from s_; false when it lies within the weld distance of
@@ -340,17 +351,25 @@ class Slicer {
   // section edge a stamp (a face listed twice in a cell goes to the generic gathering).
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
-  // kernel_slice scratch: per model edge (gen_ << 32) | section vertex | sign bit, per model
-  // face its section edge with the edge's ends (one load per step of a cell), per section
-  // vertex the step leaving it in the current cell.
+  // kernel_slice scratch: per model face the crossings handed to it (count in face_mark_, the
+  // two section vertices | coefficient bit in face_ends_), per model cell the number of steps
+  // handed to it (cell_mark_; the steps themselves sized by the section, not the model), per
+  // section vertex the step leaving it in the current cell.
   struct LoopStep {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  struct FaceImage {
-    std::uint32_t gen = 0, edge = 0, tail = 0, head = 0;  // its section edge and that's ends
+  struct CellStep {
+    std::uint32_t tail, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  std::vector<std::uint64_t> edge_img_;
-  std::vector<FaceImage> face_img_;
+  struct CellPush {
+    std::uint32_t cell;
+    CellStep step;
+  };
+  std::vector<std::uint32_t> face_ends_;
+  std::vector<CellPush> cell_push_;        // the steps the cut faces handed, in that order
+  std::vector<CellStep> cell_steps_;       // the same grouped by cell
+  std::vector<std::uint32_t> cell_base_;   // per model cell: where its steps start there
+  std::vector<std::uint64_t> visit_list_;  // (element << 8) | count of the faces or cells to cut
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
