@@ -11,6 +11,13 @@
 //   tet       slice_tets over the model's tetrahedral mesh, the generic planes
 //   sweep     Slicer::sweep of 256 parallel layers (the fixed normal, offsets evenly spaced
 //             inside +-0.95 circumradius), the time of the whole sweep
+//   sweep-slices  the same 256 layers as 256 calls of Slicer::slice (same program, same run:
+//             the sweep's own speed-up)
+// And a scene (scene1pct/): 10^4 randomly turned tesseracts and 24-cells scattered in a box
+// 400 x 40 x 40 x 8, the plane x ~ 200 touching about 1 % of them:
+//   cull      SceneSlicer::slice of the whole scene into the same vector of buffers
+//   touched   SceneSlicer::slice of a scene of only the objects `cull` touched (the floor:
+//             what `cull` costs beyond it is the culled objects' cost)
 // Times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID), not wall-clock time.
 // Output: one line per case, "case <name> <nanoseconds per operation> <units>" where units is
 // what one operation processes (tetrahedra for tet), and "fallback" lines where supported.
@@ -23,12 +30,17 @@
 #include <cstring>
 #include <ctime>
 #include <functional>
+#include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "bench_options.hpp"
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/scene.hpp"
+#include "cw4d/complex/tolerances.hpp"
+#include "cw4d/complex/transform.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
@@ -135,6 +147,18 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
            }),
            256);
   }
+  if (wanted(label + "/sweep-slices")) {
+    std::vector<double> offsets(256);
+    for (std::size_t i = 0; i < offsets.size(); ++i)
+      offsets[i] = radius * (-0.95 + 1.9 * (static_cast<double>(i) + 0.5) / 256.0);
+    std::vector<cw4d::SliceBuffers> layers(offsets.size());
+    report(label + "/sweep-slices", time_per_op([&](std::size_t) {
+             for (std::size_t i = 0; i < offsets.size(); ++i)
+               slicer.slice(compiled, cw4d::Hyperplane::from(nf, offsets[i]), layers[i]);
+             g_sink += layers.size();
+           }),
+           256);
+  }
   if (tets && wanted(label + "/tet")) {
     const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
 #ifdef CW4D_TET_SLICE_INTO
@@ -167,6 +191,67 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
 #endif
 }
 
+// 10^4 tesseracts and 24-cells, each turned by six seeded plane rotations, scattered in a box.
+cw4d::Scene scattered_scene(std::size_t count, const double box[4], std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto tesseract = std::make_shared<const cw4d::Complex>(cw4d::load_model("tesseract"));
+  auto cell24 = std::make_shared<const cw4d::Complex>(cw4d::load_model("24-cell"));
+  cw4d::Scene scene;
+  for (std::size_t i = 0; i < count; ++i) {
+    cw4d::SceneObject obj;
+    obj.model = i % 3 == 2 ? "24-cell" : "tesseract";
+    obj.complex = i % 3 == 2 ? cell24 : tesseract;
+    cw4d::AffineTransform xf = cw4d::AffineTransform::identity(4);
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        xf = cw4d::AffineTransform::rotation(4, a, b, 6.283185307179586 * unit(rng)) * xf;
+    Eigen::VectorXd t(4);
+    for (int a = 0; a < 4; ++a) t[a] = box[a] * unit(rng);
+    obj.transform = cw4d::AffineTransform::translation(t) * xf;
+    scene.objects.push_back(std::move(obj));
+  }
+  return scene;
+}
+
+void run_scene() {
+  if (!wanted("scene1pct/cull") && !wanted("scene1pct/touched")) return;
+  const double box[4] = {400, 40, 40, 8};
+  const cw4d::Scene scene = scattered_scene(10000, box, 20240401u);
+  Eigen::VectorXd n(4);
+  n << 1.0, 0.01, 0.02, 0.015;
+  const cw4d::Hyperplane plane = cw4d::Hyperplane::from(n, 200.0);
+  cw4d::SceneSlicer all(scene);
+  std::vector<cw4d::SliceBuffers> out;
+  all.slice(plane, out);
+  // The objects SceneSlicer's sphere test keeps (rigid placements: the radius is the model's),
+  // computed here so that both builds get the same scene.
+  cw4d::Scene touched;
+  const cw4d::SliceModel tesseract(*scene.objects[0].complex), cell24(*scene.objects[2].complex);
+  for (const cw4d::SceneObject& obj : scene.objects) {
+    const cw4d::SliceModel& m = obj.complex == scene.objects[0].complex ? tesseract : cell24;
+    const Eigen::VectorXd c = obj.transform.apply(m.centre());
+    const double reach =
+        m.radius() + cw4d::tol::bounding_sphere_margin_rel * (m.radius() + c.norm());
+    if (!(std::abs(plane.signed_distance(c)) > reach)) touched.objects.push_back(obj);
+  }
+  if (touched.objects.size() != all.touched()) std::fprintf(stderr, "scene: touched differ\n");
+  cw4d::SceneSlicer few(touched);
+  std::vector<cw4d::SliceBuffers> out_few;
+  if (wanted("scene1pct/cull"))
+    report("scene1pct/cull", time_per_op([&](std::size_t) {
+             all.slice(plane, out);
+             g_sink += out.size();
+           }),
+           static_cast<double>(all.touched()));
+  if (wanted("scene1pct/touched"))
+    report("scene1pct/touched", time_per_op([&](std::size_t) {
+             few.slice(plane, out_few);
+             g_sink += out_few.size();
+           }),
+           static_cast<double>(touched.objects.size()));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -186,5 +271,6 @@ int main(int argc, char** argv) {
   run_model("600-cell", "600-cell", true);
   run_model("duoprism:32,32", "duoprism32", true);
   run_model("omnitruncated 120-cell", "omni120", false);
+  run_scene();
   return g_sink.load() == 0xdeadbeef ? 1 : 0;
 }

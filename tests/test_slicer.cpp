@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -392,6 +393,93 @@ TEST_CASE("scenes with the topology cache stay exact across culled frames",
     fresh.slice(plane, b, 1);
     for (std::size_t k = 0; k < a.size(); ++k) require_identical(a[k], b[k]);
   }
+}
+
+TEST_CASE("scenes: culled buffers are written once, touched ones exactly as slice()",
+          "[slicer][scene]") {
+  // One vector of buffers reused across planes: animations of the offset (the placements are
+  // kept), then new normals. Every touched object must be exactly Slicer::slice of its model;
+  // every culled one empty, marked, and left as the slice that culled it first wrote it; the
+  // touched list is the unmarked objects in increasing order; the plain call must give the
+  // empty section for every culled object (culling never drops a cut).
+  std::mt19937 rng(8110);
+  Scene scene;
+  auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
+  auto cell600 = std::make_shared<const Complex>(load_model("600-cell"));
+  std::uniform_real_distribution<double> u(-12.0, 12.0);
+  for (int i = 0; i < 300; ++i) {  // (from 256 objects a repeated normal culls by height)
+    SceneObject obj;
+    obj.complex = i % 5 == 0 ? cell600 : i % 3 == 0 ? cell24 : tesseract;
+    obj.model = "m";
+    Eigen::VectorXd t(4);
+    t << u(rng), u(rng), u(rng), u(rng);
+    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
+    scene.objects.push_back(obj);
+  }
+  SceneSlicer slicer(scene), threaded(scene);
+  std::vector<SliceBuffers> out, out2;
+  std::vector<Hyperplane> culled_by(scene.objects.size());
+  std::vector<char> was_culled(scene.objects.size(), 0);
+  Slicer plain;
+  SliceBuffers one;
+  std::size_t touched_total = 0, culled_total = 0, kept = 0;
+  for (int normal_round = 0; normal_round < 4; ++normal_round) {
+    const Eigen::VectorXd n = test::random_unit(rng, 4);
+    for (int step = 0; step < 12; ++step) {
+      const Hyperplane plane = Hyperplane::from(n, -12.0 + 2.0 * step + 0.37 * normal_round);
+      slicer.slice(plane, out, 1);
+      threaded.slice(plane, out2, 2);
+      const auto list = slicer.touched_objects();
+      REQUIRE(list.size() == slicer.touched());
+      REQUIRE(std::is_sorted(list.begin(), list.end()));
+      std::vector<char> touched(scene.objects.size(), 0);
+      for (std::uint32_t i : list) touched[i] = 1;
+      for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        INFO("object " << i);
+        const SceneObject& obj = scene.objects[i];
+        const SliceModel model(*obj.complex);
+        plain.slice(model, plane, obj.transform, one);
+        REQUIRE(out[i].culled == !touched[i]);
+        REQUIRE(out2[i].culled == out[i].culled);
+        if (touched[i]) {
+          require_identical(out[i], one);
+          REQUIRE(out[i].fallback == one.fallback);
+          require_identical(out2[i], one);
+          was_culled[i] = 0;
+          ++touched_total;
+          continue;
+        }
+        ++culled_total;
+        REQUIRE(one.empty());
+        REQUIRE(out[i].empty());
+        REQUIRE(out[i].count(1) == 0);
+        REQUIRE(out[i].dim == 3);
+        if (!was_culled[i]) {
+          culled_by[i] = plane;  // written now
+          was_culled[i] = 1;
+        } else {
+          ++kept;  // not rewritten since
+        }
+        REQUIRE(out[i].plane.normal == culled_by[i].normal);
+        REQUIRE(out[i].plane.offset == culled_by[i].offset);
+      }
+    }
+  }
+  CHECK(touched_total > 500);
+  CHECK(culled_total > 5000);
+  CHECK(kept > 3000);
+  // A new vector (or one that a plain slice wrote into) is written whole again.
+  std::vector<SliceBuffers> fresh;
+  const Hyperplane plane = Hyperplane::from(test::random_unit(rng, 4), 1.0);
+  slicer.slice(plane, fresh, 1);
+  plain.slice(SliceModel(*scene.objects[0].complex), plane, scene.objects[0].transform, fresh[0]);
+  slicer.slice(plane, fresh, 1);
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    if (fresh[i].culled) {
+      REQUIRE(fresh[i].empty());
+      REQUIRE(fresh[i].plane.offset == plane.offset);
+    }
 }
 
 TEST_CASE("a model in two pieces: planes between, through and beside them", "[slicer]") {

@@ -45,51 +45,168 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
   }
 }
 
+// The touched objects' placements for one normal: slot[i] indexes pl for object i (none: not
+// made yet); a new normal forgets them all.
+struct SceneSlicer::Placements {
+  Eigen::VectorXd normal;
+  std::vector<std::uint32_t> slot, used;
+  std::vector<Slicer::Placement> pl;
+  std::vector<char> fresh;  // slots made in this slice (their set() is still to run)
+  // Culling for the same normal: the objects by height n.c (key sorted, order their indices),
+  // the largest sum |n_j c_j| and reach, the objects the previous call touched.
+  std::size_t calls = 0;
+  std::vector<double> key;
+  std::vector<std::uint32_t> order, previous;
+  double scale = 0.0, max_reach = 0.0;
+};
+
+void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+                        const AffineTransform& xf, SliceBuffers& out, const SliceOptions& options) {
+  // slice_placed() from its pl.set() on (the placement's normal part is that of this plane).
+  pl.plane = &plane;
+  near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
+  pl.set_offset(m, plane.offset);
+  if (options.reuse_topology && reuse(m, pl, options, out)) {
+    ++cached_count_;
+    return;
+  }
+  reason_ = FallbackReason::None;
+  kernel_ = options.kernel;
+  if (!fast_slice(m, pl, options, out)) general_slice(m, plane, xf, out);
+}
+
 void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads,
                         const SliceOptions& options) {
   if (!objects_.empty() && plane.dim() != dim_)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
-  out.resize(objects_.size());
-  threads = resolve_threads(threads);
-  threads = static_cast<unsigned>(
-      std::max<std::size_t>(1, std::min<std::size_t>(threads, objects_.size())));
-  if (slicers_.size() < threads) slicers_.resize(threads);
-  // The culling pass: one flat array of world-space spheres.
-  std::vector<char>& culled = culled_;
-  culled.assign(objects_.size(), 0);
-  std::size_t touched = objects_.size();
-  if (options.cull) {
-    const double* nrm = plane.normal.data();
-    const double* c = centres_.data();
-    const int dim = dim_;
-    touched = 0;
-    for (std::size_t i = 0; i < objects_.size(); ++i, c += dim) {
-      double dist = -plane.offset;
-      for (int j = 0; j < dim; ++j) dist += nrm[j] * c[j];
-      culled[i] = std::abs(dist) > reach_[i];
-      touched += !culled[i];
+  const std::size_t count = objects_.size();
+  // Whether out is the vector the previous call left: only then do its culled marks hold.
+  const bool same = call_ != 0 && out.size() == count && count > 0 && out[0].scene_call_ == call_;
+  out.resize(count);
+  if (!same) marked_.assign(count, 0);
+  static std::atomic<std::uint64_t> calls{0};
+  call_ = ++calls;
+  if (count > 0) out[0].scene_call_ = call_;
+  if (!placements_) placements_ = std::make_shared<Placements>();
+  Placements& cache = *placements_;
+  if (cache.slot.size() != count) cache.slot.assign(count, none), cache.used.clear();
+  if (cache.normal.size() != plane.normal.size() || cache.normal != plane.normal) {
+    for (std::uint32_t i : cache.used) cache.slot[i] = none;
+    cache.used.clear();
+    cache.pl.clear();
+    cache.normal = plane.normal;
+    cache.calls = 0;
+    cache.order.clear();
+  }
+  // The culling test: the distance summed from -d in coordinate order, against the reach.
+  touched_.clear();
+  const double* nrm = plane.normal.data();
+  const int dim = dim_;
+  const double* centres = centres_.data();
+  const double* reach = reach_.data();
+  auto culled = [&](std::size_t i) {
+    const double* c = centres + i * dim;
+    double dist = -plane.offset;
+    for (int j = 0; j < dim; ++j) dist += nrm[j] * c[j];
+    return std::abs(dist) > reach[i];
+  };
+  auto mark_empty = [&](std::size_t i) {  // a culled object's buffers, once
+    marked_[i] = 1;
+    SliceBuffers& b = out[i];
+    clear_to_empty(b, dim_ - 1);
+    b.plane = plane;
+    b.general = !objects_[i].model->fast();  // as the general path's empty result
+    b.fallback = b.general ? FallbackReason::Model : FallbackReason::None;
+    b.reused_topology = false;
+    b.culled = true;
+  };
+  ++cache.calls;
+  if (options.cull && same && cache.calls >= 2 && count >= 256) {
+    // The same normal again (a sweep or an animation of the offset) into the same vector: the
+    // objects by height n.c (sorted once per normal), so only those whose height lies within
+    // the largest reach (plus far more than the rounding of either sum) of the offset are
+    // tested, and only those touched by the previous call emptied; every other object was
+    // culled and marked before and costs nothing.
+    if (cache.order.empty()) {
+      cache.key.resize(count);
+      cache.order.resize(count);
+      cache.scale = 0.0;
+      cache.max_reach = 0.0;
+      for (std::size_t i = 0; i < count; ++i) {
+        const double* c = centres + i * dim;
+        double h = 0.0, a = 0.0;
+        for (int j = 0; j < dim; ++j) h += nrm[j] * c[j], a += std::abs(nrm[j] * c[j]);
+        cache.key[i] = h;
+        cache.scale = std::max(cache.scale, a);
+        cache.max_reach = std::max(cache.max_reach, reach[i]);
+      }
+      std::iota(cache.order.begin(), cache.order.end(), 0u);
+      std::sort(cache.order.begin(), cache.order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return cache.key[a] < cache.key[b] || (cache.key[a] == cache.key[b] && a < b);
+      });
+      std::vector<double> sorted(count);
+      for (std::size_t k = 0; k < count; ++k) sorted[k] = cache.key[cache.order[k]];
+      cache.key.swap(sorted);
+    }
+    const double margin = cache.max_reach + 1e-12 * (std::abs(plane.offset) + cache.scale);
+    const auto lo = std::lower_bound(cache.key.begin(), cache.key.end(), plane.offset - margin);
+    const auto hi = std::upper_bound(lo, cache.key.end(), plane.offset + margin);
+    for (auto k = lo; k != hi; ++k) {
+      const std::uint32_t i = cache.order[static_cast<std::size_t>(k - cache.key.begin())];
+      if (!culled(i)) touched_.push_back(i);
+    }
+    std::sort(touched_.begin(), touched_.end());
+    for (std::uint32_t i : touched_) marked_[i] = 2;
+    for (std::uint32_t i : cache.previous)
+      if (marked_[i] != 2) mark_empty(i);
+    for (std::uint32_t i : touched_) marked_[i] = 0;
+  } else {
+    // Every object's sphere: a culled object's buffers are written only when not yet marked.
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!options.cull || !culled(i)) {
+        touched_.push_back(static_cast<std::uint32_t>(i));
+        marked_[i] = 0;
+      } else if (!marked_[i]) {
+        mark_empty(i);
+      }
     }
   }
-  touched_ = touched;
+  cache.previous = touched_;
+  // Placements: slots for the touched objects that have none for this normal.
+  cache.fresh.assign(cache.pl.size(), 0);
+  for (std::uint32_t i : touched_)
+    if (cache.slot[i] == none && objects_[i].model->fast()) {
+      cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
+      cache.used.push_back(i);
+      cache.pl.emplace_back();
+      cache.fresh.push_back(1);
+    }
+  threads = resolve_threads(threads);
+  threads = static_cast<unsigned>(
+      std::max<std::size_t>(1, std::min<std::size_t>(threads, touched_.size())));
+  if (slicers_.size() < threads) slicers_.resize(threads);
   auto run = [&](unsigned t, std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      if (culled[i]) {
-        clear_to_empty(out[i], dim_ - 1);
-        out[i].plane = plane;
-        out[i].general = !objects_[i].model->fast();  // as the general path's empty result
-        out[i].fallback = out[i].general ? FallbackReason::Model : FallbackReason::None;
-        out[i].reused_topology = false;
+    for (std::size_t j = b; j < e; ++j) {
+      const std::uint32_t i = touched_[j];
+      const Object& obj = objects_[i];
+      SliceBuffers& o = out[i];
+      o.culled = false;
+      const std::uint32_t slot = cache.slot[i];
+      if (slot == none || plane.dim() != obj.model->dim()) {
+        slicers_[t].slice(*obj.model, plane, obj.transform, o, options);
         continue;
       }
-      slicers_[t].slice(*objects_[i].model, plane, objects_[i].transform, out[i], options);
+      Slicer::Placement& pl = cache.pl[slot];
+      if (cache.fresh[slot]) pl.set(*obj.model, plane, &obj.transform);
+      slicers_[t].slice_with(*obj.model, pl, plane, obj.transform, o, options);
     }
   };
-  // Blocks of consecutive objects; each thread writes only its own entries of out.
-  const std::size_t per = (objects_.size() + threads - 1) / threads;
-  fork_join(threads, [&](unsigned t) {
-    run(t, std::min(objects_.size(), t * per), std::min(objects_.size(), (t + 1) * per));
-  });
+  // Blocks of consecutive touched objects; each thread writes only its own entries of out
+  // (and its objects' placements).
+  const std::size_t n = touched_.size();
+  const std::size_t per = (n + threads - 1) / threads;
+  fork_join(threads, [&](unsigned t) { run(t, std::min(n, t * per), std::min(n, (t + 1) * per)); });
 }
 
 }  // namespace cw4d

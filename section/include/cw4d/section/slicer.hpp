@@ -144,6 +144,10 @@ struct SliceBuffers {
   bool general = false;  ///< true when the general path made these buffers
   FallbackReason fallback = FallbackReason::None;  ///< why, when general
   bool reused_topology = false;  ///< true when the topology cache answered the last slice
+  /// Set by SceneSlicer::slice when it culled this object: the buffers are empty and were
+  /// written by the slice that culled it first (their plane is that one's); cleared when it
+  /// cuts the object again.
+  bool culled = false;
 
   std::size_t count(int rank) const {
     if (rank < 0) return 0;
@@ -162,6 +166,8 @@ struct SliceBuffers {
 
  private:
   friend class Slicer;
+  friend class SceneSlicer;
+  std::uint64_t scene_call_ = 0;  // in out[0]: the SceneSlicer::slice call that wrote the vector
   std::vector<Incidence> spare_tables_;
   std::vector<std::vector<std::uint32_t>> spare_sources_;
   // Topology cache: what the last fast slice decided.
@@ -206,12 +212,14 @@ class Slicer {
              const SliceOptions& options = {});
 
   /// The sections with the planes {x : normal . x = offsets[i]} (normal need not be unit; it
-  /// is normalised as Hyperplane::from does) in one pass over the model: vertex heights are
-  /// computed once, each edge is bucketed by the first layer it crosses and stays in an active
-  /// set for the layers between its endpoints' heights, and each layer is built from its
-  /// active edges by the slice's own code (faces and cells reached through the marks). out[i]
-  /// is exactly what slice() gives for plane i; layers that need the general path are cut by
-  /// slice().
+  /// is normalised as Hyperplane::from does) in one pass over the model, output-sensitive in
+  /// R^4: vertex heights are computed once, and the section's structure (crossing edges, cut
+  /// faces, each cut cell's loop) is kept from layer to layer in offset order and renewed only
+  /// around the vertices the plane passes; a layer that passes none copies the previous layer's
+  /// connectivity and normals and computes only its crossing parameters and positions. (In R^3
+  /// each layer is built from its active edges, bucketed by the first layer they cross, by the
+  /// slice's own code.) out[i] is exactly what slice() gives for plane i; layers that need the
+  /// general path, or the generic gathering, are cut by slice().
   /// threads > 1 splits the layers, in offset order, into that many groups of consecutive
   /// layers swept at once on their own threads (0: std::thread::hardware_concurrency()); the
   /// buffers are identical for every thread count.
@@ -306,6 +314,32 @@ class Slicer {
   std::vector<char> layer_bad_;
   std::vector<std::uint32_t> sweep_order_;
   std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
+  // The output-sensitive sweep in R^4 (src/sweep.cpp): the section's structure in model terms
+  // (crossing edges, each cut face's two crossing edges, each cut cell's loop of faces), kept
+  // from layer to layer and updated only in the star of each vertex the plane passes.
+  struct SweepState {
+    std::vector<std::uint32_t> vertex_edge_offsets, vertex_edges, by_height;
+    std::vector<std::uint8_t> edge_in, face_state, cell_state;  // 0 uncut, 1 cut, 2 not kernel
+    std::vector<std::uint32_t> edges, faces, cells;             // the cut ones, ascending
+    std::vector<std::uint32_t> face_tail, face_head, cell_loop, cell_size, loops;
+    std::vector<std::uint32_t> stamp_e, stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
+    std::vector<std::uint32_t> near_e, near_f, near_c, merged;
+    std::vector<std::uint32_t> vertex_index, edge_index;
+    std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones
+    std::size_t live = 0;                                        // entries of the cut cells' loops
+    std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
+  };
+  SweepState sweep_;
+  void sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
+                    std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
+                    const AffineTransform& xf, const Hyperplane& plane);
+  void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
+  // slice() with the normal's part of the placement already made (src/scene_slicer.cpp).
+  friend class SceneSlicer;
+  void slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+                  const AffineTransform& xf, SliceBuffers& out, const SliceOptions& options);
+  std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
+  std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
   FallbackReason reason_ = FallbackReason::None;
   bool fail(FallbackReason r) {
@@ -349,13 +383,24 @@ class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
   std::size_t size() const { return objects_.size(); }
-  /// out[i] is the section of object i (empty when culled); identical for every thread count
-  /// and with or without culling. threads = 0 uses std::thread::hardware_concurrency().
+  /// out[i] is the section of object i: for the objects of touched_objects() exactly what
+  /// Slicer::slice gives (identical for every thread count and with or without culling); a
+  /// culled object's buffers are empty with SliceBuffers::culled set. A culled object costs only
+  /// its sphere test: when `out` is the vector the previous call wrote (recognised by a mark in
+  /// out[0]; any other vector, or a copy of an older state, is written whole), the buffers of
+  /// objects culled then and now are not rewritten (their plane stays that of the slice that
+  /// culled the object first), so leave them as slice() left them between calls.
+  /// threads = 0 uses std::thread::hardware_concurrency().
+  /// Each touched object's placement of the plane in model space is kept while the normal
+  /// stays the same (the transforms are fixed), so a sweep or animation of offsets redoes only
+  /// the offset's part.
   /// \throw InputError when the plane's dimension differs from the scene's.
   void slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads = 1,
              const SliceOptions& options = {});
   /// Objects the last slice() did not cull.
-  std::size_t touched() const { return touched_; }
+  std::size_t touched() const { return touched_.size(); }
+  /// Their indices, increasing: the entries of out the last slice() cut.
+  std::span<const std::uint32_t> touched_objects() const { return touched_; }
 
  private:
   struct Object {
@@ -366,9 +411,12 @@ class SceneSlicer {
   std::vector<Object> objects_;
   std::vector<double> centres_;  // world-space bounding-sphere centres, dim_ per object
   std::vector<double> reach_;    // their radii plus the culling margin
-  std::vector<char> culled_;
   std::vector<Slicer> slicers_;
-  std::size_t touched_ = 0;
+  std::vector<std::uint32_t> touched_;
+  std::vector<char> marked_;  // out[i] holds the empty culled buffers (for the vector last written)
+  std::uint64_t call_ = 0;    // the mark of the last call (unique across SceneSlicers)
+  struct Placements;  // the touched objects' placements for the last normal (scene_slicer.cpp)
+  std::shared_ptr<Placements> placements_;
   int dim_ = 0;
 };
 
