@@ -201,9 +201,10 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
       m[1] += d2[2] * d3[0] - d2[0] * d3[2];
       m[2] += d2[0] * d3[1] - d2[1] * d3[0];
     }
-    const bool reverse = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
+    // The turn as index arithmetic, not a branch: its sign is known only after the divisions
+    // and the normal's square root, and it is unpredictable (half the polygons turn).
+    const int rev = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
     auto emit = [&](int i0, int i1, int i2) {
-      if (reverse) std::swap(i1, i2);
       const int c[3] = {i0, i1, i2};
       for (int k = 0; k < 3; ++k) {
         const std::size_t col = 3 * w + static_cast<std::size_t>(k);
@@ -218,8 +219,8 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
       out_cell[w] = cell;
       ++w;
     };
-    emit(0, 1, 2);
-    if (count == 4) emit(0, 2, 3);
+    emit(0, 1 + rev, 2 - rev);
+    if (count == 4) emit(0, 2 + rev, 3 - rev);
   }
 }
 
