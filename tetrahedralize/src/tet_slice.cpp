@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <type_traits>
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
@@ -175,52 +176,60 @@ void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
           (NB * Eigen::Map<const Eigen::Vector4d>(CN + 4 * std::size_t{cell})).normalized();
       n3[0] = nn[0], n3[1] = nn[1], n3[2] = nn[2];
     }
-    double pos[4][3], uvw[4][3];
-    TetCutPoint cp[4];
-    const int count = cc.count;
-    for (int e = 0; e < count; ++e) {
-      const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
-      const double u = s[a] / (s[a] - s[b]);
-      cp[e] = {a, b, u};
-      const double* ya = Y + 3 * a;
-      const double* yb = Y + 3 * b;
-      const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
-      const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
-      for (int r = 0; r < 3; ++r) {
-        pos[e][r] = (1.0 - u) * ya[r] + u * yb[r];
-        uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
-      }
-    }
-    // Orientation: the polygon's normal must point along the projected outward normal.
-    const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
-    const double d2[3] = {pos[2][0] - pos[0][0], pos[2][1] - pos[0][1], pos[2][2] - pos[0][2]};
-    double m[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
-                   d1[0] * d2[1] - d1[1] * d2[0]};
-    if (count == 4) {
-      const double d3[3] = {pos[3][0] - pos[0][0], pos[3][1] - pos[0][1], pos[3][2] - pos[0][2]};
-      m[0] += d2[1] * d3[2] - d2[2] * d3[1];
-      m[1] += d2[2] * d3[0] - d2[0] * d3[2];
-      m[2] += d2[0] * d3[1] - d2[1] * d3[0];
-    }
-    const bool reverse = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
-    auto emit = [&](int i0, int i1, int i2) {
-      if (reverse) std::swap(i1, i2);
-      const int c[3] = {i0, i1, i2};
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t col = 3 * w + static_cast<std::size_t>(k);
+    // The body compiled once for triangles and once for quads (fixed trip counts).
+    auto cut_one = [&](auto count_tag) {
+      constexpr int count = decltype(count_tag)::value;
+      double pos[4][3], uvw[4][3];
+      TetCutPoint cp[4];
+      for (int e = 0; e < count; ++e) {
+        const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
+        const double u = s[a] / (s[a] - s[b]);
+        cp[e] = {a, b, u};
+        const double* ya = Y + 3 * a;
+        const double* yb = Y + 3 * b;
+        const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
+        const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
         for (int r = 0; r < 3; ++r) {
-          out_pos[3 * col + r] = pos[c[k]][r];
-          out_nrm[3 * col + r] = n3[r];
-          out_uvw[3 * col + r] = uvw[c[k]][r];
+          pos[e][r] = (1.0 - u) * ya[r] + u * yb[r];
+          uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
         }
-        out_corner[col] = cp[c[k]];
       }
-      out_tet[w] = t;
-      out_cell[w] = cell;
-      ++w;
+      // Orientation: the polygon's normal must point along the projected outward normal.
+      const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
+      const double d2[3] = {pos[2][0] - pos[0][0], pos[2][1] - pos[0][1], pos[2][2] - pos[0][2]};
+      double m[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
+                     d1[0] * d2[1] - d1[1] * d2[0]};
+      if constexpr (count == 4) {
+        const double d3[3] = {pos[3][0] - pos[0][0], pos[3][1] - pos[0][1], pos[3][2] - pos[0][2]};
+        m[0] += d2[1] * d3[2] - d2[2] * d3[1];
+        m[1] += d2[2] * d3[0] - d2[0] * d3[2];
+        m[2] += d2[0] * d3[1] - d2[1] * d3[0];
+      }
+      // The turn as index arithmetic, not a branch: its sign is known only after the divisions
+      // and the normal's square root, and it is unpredictable (half the polygons turn).
+      const int rev = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
+      auto emit = [&](int i0, int i1, int i2) {
+        const int c[3] = {i0, i1, i2};
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t col = 3 * w + static_cast<std::size_t>(k);
+          for (int r = 0; r < 3; ++r) {
+            out_pos[3 * col + r] = pos[c[k]][r];
+            out_nrm[3 * col + r] = n3[r];
+            out_uvw[3 * col + r] = uvw[c[k]][r];
+          }
+          out_corner[col] = cp[c[k]];
+        }
+        out_tet[w] = t;
+        out_cell[w] = cell;
+        ++w;
+      };
+      emit(0, 1 + rev, 2 - rev);
+      if constexpr (count == 4) emit(0, 2 + rev, 3 - rev);
     };
-    emit(0, 1, 2);
-    if (count == 4) emit(0, 2, 3);
+    if (cc.count == 4)
+      cut_one(std::integral_constant<int, 4>{});
+    else
+      cut_one(std::integral_constant<int, 3>{});
   }
 }
 
