@@ -45,7 +45,7 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
   }
 }
 
-// The touched objects' placements for one normal: slot[i] indexes pl for object i (none: not
+// The touched objects' placements for one normal: slot[i] indexes pl for object i (no_index: none
 // made yet); a new normal forgets them all.
 struct SceneSlicer::Placements {
   Eigen::VectorXd normal;
@@ -90,9 +90,9 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
   if (count > 0) out[0].scene_call_ = call_;
   if (!placements_) placements_ = std::make_shared<Placements>();
   Placements& cache = *placements_;
-  if (cache.slot.size() != count) cache.slot.assign(count, none), cache.used.clear();
+  if (cache.slot.size() != count) cache.slot.assign(count, no_index), cache.used.clear();
   if (cache.normal.size() != plane.normal.size() || cache.normal != plane.normal) {
-    for (std::uint32_t i : cache.used) cache.slot[i] = none;
+    for (std::uint32_t i : cache.used) cache.slot[i] = no_index;
     cache.used.clear();
     cache.pl.clear();
     cache.normal = plane.normal;
@@ -176,7 +176,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
   // Placements: slots for the touched objects that have none for this normal.
   cache.fresh.assign(cache.pl.size(), 0);
   for (std::uint32_t i : touched_)
-    if (cache.slot[i] == none && objects_[i].model->fast()) {
+    if (cache.slot[i] == no_index && objects_[i].model->fast()) {
       cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
       cache.used.push_back(i);
       cache.pl.emplace_back();
@@ -193,7 +193,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
       SliceBuffers& o = out[i];
       o.culled = false;
       const std::uint32_t slot = cache.slot[i];
-      if (slot == none || plane.dim() != obj.model->dim()) {
+      if (slot == no_index || plane.dim() != obj.model->dim()) {
         slicers_[t].slice(*obj.model, plane, obj.transform, o, options);
         continue;
       }

@@ -152,12 +152,12 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   // new_id[k][model id] for ranks 0..fr; order[k] = model ids in internal order.
   std::vector<std::vector<std::uint32_t>> new_id(fr + 1), order(fr + 1);
   for (int k = 0; k <= fr; ++k) {
-    new_id[k].assign(model.count(k), none);
+    new_id[k].assign(model.count(k), no_index);
     order[k].reserve(model.count(k));
   }
   for (int k = 1; k <= fr; ++k) begin_[k - 1].assign(1, 0);
   cluster_vertex_.assign(1, 0);
-  std::vector<std::uint32_t> stamp(nv, none), fresh, verts;
+  std::vector<std::uint32_t> stamp(nv, no_index), fresh, verts;
   std::vector<std::vector<std::uint32_t>> frontier(fr + 1);
   for (std::size_t c = 0; c < nc; ++c) {
     const std::size_t f0 = c * options.cluster_size, f1 = std::min(nf, f0 + options.cluster_size);
@@ -177,7 +177,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     for (int k = fr; k >= 0; --k) {
       fresh.clear();
       for (auto x : frontier[k])
-        if (new_id[k][x] == none) fresh.push_back(x);
+        if (new_id[k][x] == no_index) fresh.push_back(x);
       if (k == fr) std::sort(fresh.begin(), fresh.end());
       for (auto x : fresh) {
         new_id[k][x] = static_cast<std::uint32_t>(order[k].size());

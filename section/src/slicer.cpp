@@ -425,7 +425,7 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
       }
       const std::uint32_t st = stamp_;
       steps_.clear();
-      std::uint32_t lo = none, start = 0;
+      std::uint32_t lo = no_index, start = 0;
       for (std::uint32_t i = offsets[x], end = offsets[x + 1]; i < end; ++i) {
         const Image img = below[ids[i]];
         if (img.gen != gen) continue;

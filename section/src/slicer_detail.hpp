@@ -16,7 +16,6 @@ namespace cw4d {
 
 namespace slicer_detail {
 
-inline constexpr std::uint32_t none = 0xffffffffu;
 inline constexpr int kMaxDim = 4;
 
 // Resizes v to `want` elements, moving dropped ones to `spare` and taking new ones from it, so

@@ -272,7 +272,7 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   SweepState& w = sweep_;
   const SliceModel::Rank& C = m.ranks_[3];
   const std::uint32_t st = next_stamp(w.loop_gen, {&w.loop_stamp});
-  std::uint32_t lo = none, ns = 0;
+  std::uint32_t lo = no_index, ns = 0;
   for (std::uint32_t i = C.offsets[c], end = C.offsets[c + 1]; i < end; ++i) {
     const std::uint32_t f = C.ids[i];
     const std::uint8_t fs = w.face_state[f];
