@@ -181,7 +181,7 @@ TEST_CASE("tet section UVW equals the CW section's at every corner of every cut 
           CHECK((got - want).cwiseAbs().maxCoeff() < 1e-5);
           ++corners;
           const VertexSource& vs = sec.vertex_source[cycle[j]];
-          diagonal_corners += vs.rank == 1 && vs.element == EdgeId::invalid_value;
+          diagonal_corners += vs.rank == 1 && vs.element == no_index;
         }
       }
     }
