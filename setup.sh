@@ -184,8 +184,10 @@ run_fuzz_smoke() {
   [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "CW4D_FUZZ_SECONDS must be a positive integer, got '$seconds'"
   discard_stale_cache "$dir" clang++
   log "configuring the libFuzzer targets (clang) in $dir/"
+  # -O1 -g1 as in the sanitizer build: every library is compiled here (fuzz_cli links them all),
+  # and line tables are all a crash report needs; NDEBUG is not set, so the core's asserts run.
   cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    -DCW4D_FUZZ_CLI=ON >&2 || return 1
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCW4D_FUZZ_CLI=ON >&2 || return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
   for target in off scene spec nesting cli; do
     # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
