@@ -60,21 +60,6 @@ struct SceneSlicer::Placements {
   double scale = 0.0, max_reach = 0.0;
 };
 
-void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
-                        const AffineTransform& xf, SliceBuffers& out, const SliceOptions& options) {
-  // slice_placed() from its pl.set() on (the placement's normal part is that of this plane).
-  pl.plane = &plane;
-  near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
-  pl.set_offset(m, plane.offset);
-  if (options.reuse_topology && reuse(m, pl, options, out)) {
-    ++cached_count_;
-    return;
-  }
-  reason_ = FallbackReason::None;
-  kernel_ = options.kernel;
-  if (!fast_slice(m, pl, options, out)) general_slice(m, plane, xf, out);
-}
-
 void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads,
                         const SliceOptions& options) {
   if (!objects_.empty() && plane.dim() != dim_)
@@ -199,7 +184,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
       }
       Slicer::Placement& pl = cache.pl[slot];
       if (cache.fresh[slot]) pl.set(*obj.model, plane, &obj.transform);
-      slicers_[t].slice_with(*obj.model, pl, plane, obj.transform, o, options);
+      slicers_[t].slice_with(*obj.model, pl, plane, &obj.transform, o, options);
     }
   };
   // Blocks of consecutive touched objects; each thread writes only its own entries of out

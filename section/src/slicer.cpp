@@ -35,18 +35,18 @@ void Slicer::slice(const SliceModel& m, const Hyperplane& plane, const AffineTra
 
 void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
                           SliceBuffers& out, const SliceOptions& options) {
-  auto general = [&] {
-    if (xf)
-      general_slice(m, plane, *xf, out);
-    else
-      general_slice(m, plane, AffineTransform::identity(m.dim()), out);
-  };
   if (!m.fast() || plane.dim() != m.dim() || (xf && xf->dim() != m.dim())) {
-    general();  // (which throws InputError for mismatched dimensions)
+    general_from(m, plane, xf, out);  // (which throws InputError for mismatched dimensions)
     return;
   }
   Placement pl;
   pl.set(m, plane, xf);
+  slice_with(m, pl, plane, xf, out, options);
+}
+
+void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+                        const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options) {
+  pl.plane = &plane;  // (a scene's cached placement was made for an equal plane)
   near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
   pl.set_offset(m, plane.offset);
   if (options.reuse_topology && reuse(m, pl, options, out)) {
@@ -55,7 +55,15 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
   }
   reason_ = FallbackReason::None;
   kernel_ = options.kernel;
-  if (!fast_slice(m, pl, options, out)) general();
+  if (!fast_slice(m, pl, options, out)) general_from(m, plane, xf, out);
+}
+
+void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
+                          SliceBuffers& out) {
+  if (xf)
+    general_slice(m, plane, *xf, out);
+  else
+    general_slice(m, plane, AffineTransform::identity(m.dim()), out);
 }
 
 void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,

@@ -334,10 +334,13 @@ class Slicer {
                     std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
                     const AffineTransform& xf, const Hyperplane& plane);
   void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
-  // slice() with the normal's part of the placement already made (src/scene_slicer.cpp).
+  // slice() from the normal's part of the placement on (made by slice_placed, or cached by a
+  // SceneSlicer); xf == nullptr: the identity.
   friend class SceneSlicer;
   void slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
-                  const AffineTransform& xf, SliceBuffers& out, const SliceOptions& options);
+                  const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options);
+  void general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
+                    SliceBuffers& out);
   std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
   std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
