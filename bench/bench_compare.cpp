@@ -8,7 +8,9 @@
 //             0.1 x circumradius
 //   vertex    Slicer::slice with planes through a vertex (the degenerate, general path)
 //   section   cw4d::section(model, plane) over the generic planes
-//   tet       slice_tets over the model's tetrahedral mesh, the generic planes
+//   tet       slice_tets over the model's tetrahedral mesh, the generic planes (into the indexed
+//             TetSliceMesh where the headers have it, else the TetSection soup)
+//   tet-soup  (newer trees only) the same into the TetSection soup
 //   sweep     Slicer::sweep of 256 parallel layers (the fixed normal, offsets evenly spaced
 //             inside +-0.95 circumradius), the time of the whole sweep
 //   sweep-slices  the same 256 layers as 256 calls of Slicer::slice (same program, same run:
@@ -161,7 +163,22 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
   }
   if (tets && wanted(label + "/tet")) {
     const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
-#ifdef CW4D_TET_SLICE_INTO
+#if defined(CW4D_TET_SLICE_INDEXED)
+    // The indexed form (one vertex per crossing edge): the same triangles, normals, uvw and
+    // provenance as the soup the older code writes (to_soup gives that soup; "tet-soup" times it).
+    cw4d::TetSliceMesh tm;
+    report(label + "/tet", time_per_op([&](std::size_t i) {
+             cw4d::slice_tets(mesh, planes[i % planes.size()], tm);
+             g_sink += tm.triangle_count();
+           }),
+           static_cast<double>(mesh.size()));
+    cw4d::TetSection ts;
+    report(label + "/tet-soup", time_per_op([&](std::size_t i) {
+             cw4d::slice_tets(mesh, planes[i % planes.size()], ts);
+             g_sink += ts.triangle_count();
+           }),
+           static_cast<double>(mesh.size()));
+#elif defined(CW4D_TET_SLICE_INTO)
     cw4d::TetSection ts;
     report(label + "/tet", time_per_op([&](std::size_t i) {
              cw4d::slice_tets(mesh, planes[i % planes.size()], ts);

@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <queue>
+#include <unordered_map>
 
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/triangulate.hpp"
@@ -438,6 +439,77 @@ std::vector<std::vector<std::array<std::uint32_t, 3>>> triangulate_faces(const C
   return triangulate_all(complex, vertex_order(complex)).triangles;
 }
 
+bool TetMesh::has_edge_index() const {
+  if (tet_edges.size() != tets.size()) return false;
+  for (std::size_t t = 0; t < tets.size(); ++t)
+    for (std::size_t k = 0; k < 6; ++k) {
+      const std::uint32_t e = tet_edges[t][k];
+      if (e >= edges.size()) return false;
+      const std::uint32_t a = tets[t][static_cast<std::size_t>(kTetEdgeCorners[k][0])];
+      const std::uint32_t b = tets[t][static_cast<std::size_t>(kTetEdgeCorners[k][1])];
+      if (edges[e][0] != std::min(a, b) || edges[e][1] != std::max(a, b)) return false;
+    }
+  if (block_first.empty() || block_first.front() != 0 || block_first.back() != tets.size() ||
+      block_vertex_first.size() != block_first.size() || tet_cell.size() != tets.size())
+    return false;
+  for (std::size_t b = 0; b + 1 < block_first.size(); ++b) {
+    std::vector<std::uint32_t> want, have;
+    for (std::uint32_t t = block_first[b]; t < block_first[b + 1]; ++t) {
+      if (tet_cell[t] != tet_cell[block_first[b]]) return false;
+      want.insert(want.end(), tets[t].begin(), tets[t].end());
+    }
+    std::sort(want.begin(), want.end());
+    want.erase(std::unique(want.begin(), want.end()), want.end());
+    have.assign(block_vertices.begin() + block_vertex_first[b],
+                block_vertices.begin() + block_vertex_first[b + 1]);
+    std::sort(have.begin(), have.end());
+    if (want != have) return false;
+  }
+  return true;
+}
+
+void index_tet_edges(TetMesh& mesh) {
+  mesh.edges.clear();
+  mesh.tet_edges.resize(mesh.tets.size());
+  std::unordered_map<std::uint64_t, std::uint32_t> id;
+  id.reserve(2 * mesh.tets.size() + 16);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (std::size_t k = 0; k < 6; ++k) {
+      const std::uint32_t a =
+          mesh.tets[t][static_cast<std::size_t>(TetMesh::kTetEdgeCorners[k][0])];
+      const std::uint32_t b =
+          mesh.tets[t][static_cast<std::size_t>(TetMesh::kTetEdgeCorners[k][1])];
+      const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
+      const auto [it, fresh] =
+          id.emplace((std::uint64_t{lo} << 32) | hi, static_cast<std::uint32_t>(mesh.edges.size()));
+      if (fresh) mesh.edges.push_back({lo, hi});
+      mesh.tet_edges[t][k] = it->second;
+    }
+  mesh.block_first.assign(1, 0);
+  mesh.block_vertex_first.assign(1, 0);
+  mesh.block_vertices.clear();
+  // (without a cell per tetrahedron, every tetrahedron is a block)
+  const bool cells = mesh.tet_cell.size() == mesh.tets.size();
+  std::size_t t0 = 0;
+  while (t0 < mesh.tets.size()) {
+    std::size_t t1 = t0 + 1;
+    while (cells && t1 < mesh.tets.size() && mesh.tet_cell[t1] == mesh.tet_cell[t0]) ++t1;
+    const std::size_t v0 = mesh.block_vertices.size();
+    for (std::size_t t = t0; t < t1; ++t)
+      mesh.block_vertices.insert(mesh.block_vertices.end(), mesh.tets[t].begin(),
+                                 mesh.tets[t].end());
+    std::sort(mesh.block_vertices.begin() + static_cast<std::ptrdiff_t>(v0),
+              mesh.block_vertices.end());
+    mesh.block_vertices.erase(
+        std::unique(mesh.block_vertices.begin() + static_cast<std::ptrdiff_t>(v0),
+                    mesh.block_vertices.end()),
+        mesh.block_vertices.end());
+    mesh.block_first.push_back(static_cast<std::uint32_t>(t1));
+    mesh.block_vertex_first.push_back(static_cast<std::uint32_t>(mesh.block_vertices.size()));
+    t0 = t1;
+  }
+}
+
 TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetStats* stats) {
   if (complex.ambient_dim() != 4)
     throw InputError("tetrahedralize: the model lives in R^" +
@@ -591,6 +663,7 @@ TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetSta
     }
     t0 = t1;
   }
+  index_tet_edges(mesh);
   return mesh;
 }
 

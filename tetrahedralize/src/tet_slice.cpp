@@ -94,200 +94,405 @@ inline CrossingEdge crossing_edge(const TetCutCase& cc, int e,
   return c;
 }
 
-// The cut when no vertex is on the plane (every crossing is interior to its edge, no triangle
-// degenerates, no face lies in the plane): one pass over the corners' side bits lists the cut
-// tetrahedra (all on one side: skipped at once) and counts their triangles, the output is sized
-// once, and each cut tetrahedron is written straight into its final columns through the 16-case
-// table. Vertices are projected into the section frame once each (y = W p + offset), a crossing
-// interpolates the two projections. The same triangles, in the same order and orientation, as
-// the general loop of slice_tets.
-void cut_generic(const TetMesh& mesh, const double* s, const Side* side,
-                 const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset,
-                 const Eigen::Matrix<double, 3, 4>& NB, TetSection& out) {
-  const std::size_t T = mesh.size();
-  const std::size_t nv = static_cast<std::size_t>(mesh.positions.cols());
-  thread_local std::vector<std::uint8_t> up_store;
-  thread_local std::vector<std::uint32_t> cut_store;
-  thread_local std::vector<double> proj_store;
-  up_store.resize(nv);
-  cut_store.resize(T);
-  proj_store.resize(3 * nv);
-  std::uint8_t* up = up_store.data();
-  for (std::size_t v = 0; v < nv; ++v) up[v] = side[v] > Side::On;
-  // Triangles per sign mask: none for 0 and 15, two for the quads (two corners each side).
-  static constexpr std::uint8_t kTris[16] = {0, 1, 1, 2, 1, 2, 2, 1, 1, 2, 2, 1, 2, 1, 1, 0};
-  std::uint32_t* cut = cut_store.data();  // (t << 4) | mask of each cut tetrahedron
-  std::size_t ncut = 0, tris = 0;
-  const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
-  for (std::size_t t = 0; t < T; ++t) {
-    const auto& tv = tets[t];
-    const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
-    cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
-    ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
-    tris += kTris[mask];
-  }
-  // (conservativeResize: a realloc, in place when the slice shrinks, where resize frees and
-  // allocates anew for every new triangle count)
-  const auto n = static_cast<Eigen::Index>(3 * tris);
-  if (out.positions.cols() != n) out.positions.conservativeResize(3, n);
-  if (out.normals.cols() != n) out.normals.conservativeResize(3, n);
-  if (out.uvw.cols() != n) out.uvw.conservativeResize(3, n);
-  out.corners.resize(3 * tris);
-  out.tet.resize(tris);
-  out.cell.resize(tris);
-  if (tris == 0) return;
-  // The vertices in section coordinates, each once.
-  const double* P = mesh.positions.data();
-  double* Y = proj_store.data();
-  for (std::size_t v = 0; v < nv; ++v) {
-    const double* x = P + 4 * v;
+// The position of a sign case's cut edges in TetMesh::kTetEdgeCorners (0..5), in cycle order;
+// a triangle repeats its third edge in the fourth slot.
+constexpr int local_edge(int a, int b) {
+  const int lo = a < b ? a : b, hi = a < b ? b : a;
+  for (int k = 0; k < 6; ++k)
+    if (TetMesh::kTetEdgeCorners[static_cast<std::size_t>(k)][0] == lo &&
+        TetMesh::kTetEdgeCorners[static_cast<std::size_t>(k)][1] == hi)
+      return k;
+  return -1;
+}
+
+// Whether the table's corner cycle of a sign case has to be reversed to be outward, for a
+// tetrahedron positively oriented with its cell's normal N (det(N, p1 - p0, p2 - p0, p3 - p0) > 0)
+// and a frame basis B with (B, n) right-handed. In the cell's 3-space, oriented by N first, the
+// outward polygon (m . projected N > 0, m its frame-space normal) is the one with
+// det(N, e1, e2, g) > 0, e1 = c1 - c0, e2 = c2 - c0, g the gradient of n.x - d along the cell:
+// (m . N_H > 0 iff det(n, e1, e2, N) det(n, B) > 0, det(n, B) = -1, and
+// det(n, e1, e2, N) = -det(N, e1, e2, g)). The sign only depends on which corners are positive
+// while no corner is on the plane, so it is evaluated once on a model tetrahedron, the corners
+// p0 = 0, p1 = e_y, p2 = e_x, p3 = e_z with N = e_w (det(e_w, v1, v2, v3) = -det3(v1, v2, v3) = 1),
+// under the affine function that is +1 at positive and -1 at negative corners (cut at the edge
+// midpoints): there det(N, e1, e2, g) = -det3(e1, e2, g).
+constexpr bool reverse_case(int mask) {
+  const TetCutCase c = make_case(mask);
+  if (c.count == 0) return false;
+  const double P[4][3] = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}};
+  double sv[4] = {};
+  for (int k = 0; k < 4; ++k) sv[k] = (mask >> k) & 1 ? 1.0 : -1.0;
+  const double g[3] = {sv[2] - sv[0], sv[1] - sv[0], sv[3] - sv[0]};
+  double cpt[3][3] = {};
+  for (int e = 0; e < 3; ++e)
     for (int r = 0; r < 3; ++r)
-      Y[3 * v + r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + offset[r];
-  }
-  const double* UVW = mesh.corner_uvw.data();
-  const double* CN = mesh.cell_normals.data();
-  const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  thread_local std::vector<std::uint32_t> cell_stamp;
-  thread_local std::vector<double> cell_n3;
-  thread_local std::uint32_t stamp = 0;
-  if (cell_stamp.size() < mesh.cell_count())
-    cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(3 * mesh.cell_count());
-  if (++stamp == 0) {  // wrapped: forget every stamp
-    std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
-    stamp = 1;
-  }
-  double* out_pos = out.positions.data();
-  double* out_nrm = out.normals.data();
-  double* out_uvw = out.uvw.data();
-  TetCutPoint* out_corner = out.corners.data();
-  std::uint32_t* out_tet = out.tet.data();
-  std::uint32_t* out_cell = out.cell.data();
-  std::size_t w = 0;  // triangles written
-  for (std::size_t i = 0; i < ncut; ++i) {
-    const std::uint32_t t = cut[i] >> 4;
-    const TetCutCase& cc = kTetCutTable[cut[i] & 15u];
-    const auto& tv = tets[t];
-    // The projected normal once per cell (every tetrahedron of a cell has the same one).
-    const std::uint32_t cell = tet_cell[t];
-    double* n3 = &cell_n3[3 * cell];
-    if (cell_stamp[cell] != stamp) {
-      cell_stamp[cell] = stamp;
-      const Eigen::Vector3d nn =
-          (NB * Eigen::Map<const Eigen::Vector4d>(CN + 4 * std::size_t{cell})).normalized();
-      n3[0] = nn[0], n3[1] = nn[1], n3[2] = nn[2];
+      cpt[e][r] = 0.5 * (P[c.edges[static_cast<std::size_t>(e)][0]][r] +
+                         P[c.edges[static_cast<std::size_t>(e)][1]][r]);
+  const double e1[3] = {cpt[1][0] - cpt[0][0], cpt[1][1] - cpt[0][1], cpt[1][2] - cpt[0][2]};
+  const double e2[3] = {cpt[2][0] - cpt[0][0], cpt[2][1] - cpt[0][1], cpt[2][2] - cpt[0][2]};
+  const double m[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
+  const double det3 = m[0] * g[0] + m[1] * g[1] + m[2] * g[2];
+  return !(-det3 > 0.0);
+}
+
+// What the indexed cut reads per sign case: the cut edges as local edge ids in outward cycle
+// order (the table's cycle, reversed after its first corner where reverse_case says so, and
+// again for a placement that reverses orientation), the corner pairs of those edges and the
+// triangle count. A triangle repeats its third corner in the fourth slot.
+struct IndexedCase {
+  std::uint8_t local[4];
+  std::uint8_t ka[4], kb[4];
+  std::uint8_t tris;
+};
+constexpr std::array<IndexedCase, 16> make_indexed_table(bool flip) {
+  std::array<IndexedCase, 16> t{};
+  for (int m = 0; m < 16; ++m) {
+    const TetCutCase c = make_case(m);
+    IndexedCase& ic = t[static_cast<std::size_t>(m)];
+    ic.tris = static_cast<std::uint8_t>(c.count == 4 ? 2 : c.count == 3 ? 1 : 0);
+    const bool reverse = reverse_case(m) != flip;
+    for (int e = 0; e < 4; ++e) {
+      int src = 0;
+      if (c.count > 0) {
+        const int slot = e < c.count ? e : c.count - 1;
+        src = reverse && slot > 0 ? c.count - slot : slot;
+      }
+      const auto& k = c.edges[static_cast<std::size_t>(src)];
+      ic.local[e] = static_cast<std::uint8_t>(c.count == 0 ? 0 : local_edge(k[0], k[1]));
+      ic.ka[e] = static_cast<std::uint8_t>(k[0]);
+      ic.kb[e] = static_cast<std::uint8_t>(k[1]);
     }
-    // The body compiled once for triangles and once for quads (fixed trip counts).
-    auto cut_one = [&](auto count_tag) {
-      constexpr int count = decltype(count_tag)::value;
-      double pos[4][3], uvw[4][3];
-      TetCutPoint cp[4];
-      for (int e = 0; e < count; ++e) {
-        const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
-        const double u = s[a] / (s[a] - s[b]);
-        cp[e] = {a, b, u};
-        const double* ya = Y + 3 * a;
-        const double* yb = Y + 3 * b;
-        const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
-        const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
-        for (int r = 0; r < 3; ++r) {
-          pos[e][r] = (1.0 - u) * ya[r] + u * yb[r];
-          uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
-        }
-      }
-      // Orientation: the polygon's normal must point along the projected outward normal.
-      const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
-      const double d2[3] = {pos[2][0] - pos[0][0], pos[2][1] - pos[0][1], pos[2][2] - pos[0][2]};
-      double m[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
-                     d1[0] * d2[1] - d1[1] * d2[0]};
-      if constexpr (count == 4) {
-        const double d3[3] = {pos[3][0] - pos[0][0], pos[3][1] - pos[0][1], pos[3][2] - pos[0][2]};
-        m[0] += d2[1] * d3[2] - d2[2] * d3[1];
-        m[1] += d2[2] * d3[0] - d2[0] * d3[2];
-        m[2] += d2[0] * d3[1] - d2[1] * d3[0];
-      }
-      // The turn as index arithmetic, not a branch: its sign is known only after the divisions
-      // and the normal's square root, and it is unpredictable (half the polygons turn).
-      const int rev = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
-      auto emit = [&](int i0, int i1, int i2) {
-        const int c[3] = {i0, i1, i2};
-        for (int k = 0; k < 3; ++k) {
-          const std::size_t col = 3 * w + static_cast<std::size_t>(k);
-          for (int r = 0; r < 3; ++r) {
-            out_pos[3 * col + r] = pos[c[k]][r];
-            out_nrm[3 * col + r] = n3[r];
-            out_uvw[3 * col + r] = uvw[c[k]][r];
-          }
-          out_corner[col] = cp[c[k]];
-        }
-        out_tet[w] = t;
-        out_cell[w] = cell;
-        ++w;
-      };
-      emit(0, 1 + rev, 2 - rev);
-      if constexpr (count == 4) emit(0, 2 + rev, 3 - rev);
-    };
-    if (cc.count == 4)
-      cut_one(std::integral_constant<int, 4>{});
-    else
-      cut_one(std::integral_constant<int, 3>{});
   }
+  return t;
+}
+constexpr std::array<std::array<IndexedCase, 16>, 2> kIndexedTable = {make_indexed_table(false),
+                                                                      make_indexed_table(true)};
+
+// Everything a slice needs before the cut: the plane's values at the mesh vertices, their sides,
+// the section frame and the maps into it.
+struct Prepared {
+  bool any_pos = false, any_neg = false, any_on = false;
+  bool flip = false;  // the placement reverses orientation (det A < 0)
+  Eigen::Matrix4d lin;
+  Eigen::Matrix4d normal_map;
+  Eigen::Matrix<double, 3, 4> bt;
+  Eigen::Matrix<double, 3, 4> W;   // bt * lin: model point -> section coordinates (+ offset)
+  Eigen::Matrix<double, 3, 4> NB;  // bt * normal_map: model normal -> section direction
+  Eigen::Vector3d offset;
+};
+
+struct Scratch {
+  std::vector<double> s;
+  std::vector<Side> side;
+  std::vector<std::uint8_t> up;
+  std::vector<std::uint32_t> cut;         // (t << 4) | mask of each cut tetrahedron
+  std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
+  std::vector<std::uint32_t> crossing;    // the edge of each output vertex
+  std::vector<double> u;                  // the parameter of each output vertex
+  std::vector<std::uint32_t> edge_owner;  // the last corner slot naming the edge
+  std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
+  std::vector<std::uint32_t> slot_vid;    // the vertex an owning slot gives its edge
+  std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
+  std::vector<std::uint32_t> cut_cells;   // each cut cell once
+  std::vector<double> cell_n3;
+  // An edge index for meshes whose tets were changed after tetrahedralize.
+  TetMesh edge_mesh;
+  // The other form, for conversions.
+  TetSection soup;
+  TetSliceMesh indexed;
+  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
+  std::vector<TetCutPoint> cut_buf;
+};
+
+Scratch& scratch() {
+  thread_local Scratch sc;
+  return sc;
 }
 
-}  // namespace
-
-TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
-  return slice_tets(mesh, plane, AffineTransform::identity(4));
+void set_frame(HyperplaneFrame& f, const Hyperplane& p) {
+  f.plane.normal = p.normal;
+  f.plane.offset = p.offset;
+  if (f.basis.rows() != 4 || f.basis.cols() != 3) f.basis.resize(4, 3);
+  hyperplane_basis(p.normal.data(), 4, f.basis.data());
 }
 
-TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
-  TetSection out;
-  slice_tets(mesh, plane, xf, out);
-  return out;
-}
-
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
-  slice_tets(mesh, plane, AffineTransform::identity(4), out);
-}
-
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
-                TetSection& out) {
+Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                 const HyperplaneFrame& frame, Scratch& sc) {
   if (plane.dim() != 4)
     throw InputError("slice_tets: hyperplane in R^" + std::to_string(plane.dim()) + ", not R^4");
   if (xf.dim() != 4)
     throw InputError("slice_tets: transform of R^" + std::to_string(xf.dim()) + ", not R^4");
-  out.frame = HyperplaneFrame(plane);
-  out.corners.clear();
-  out.tet.clear();
-  out.cell.clear();
+  Prepared pr;
   // The plane in model space: (A^T n).x = d - n.t (as cw4d::section does).
-  const Eigen::Vector4d nm = xf.linear().transpose() * plane.normal;
-  const double dm = plane.offset - plane.normal.dot(xf.translation());
-  const auto& p = mesh.positions;
-  const auto nv = static_cast<std::size_t>(p.cols());
-  // Per-thread scratch, kept between slices.
-  thread_local std::vector<double> s;
-  thread_local std::vector<Side> side;
-  thread_local std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
-  thread_local std::vector<TetCutPoint> cut_buf;
-  s.resize(nv);
-  side.resize(nv);
-  all_pos.clear();
-  all_nrm.clear();
-  all_uvw.clear();
+  pr.lin = xf.linear();
+  const Eigen::Vector4d n4 = plane.normal;
+  const Eigen::Vector4d t4 = xf.translation();
+  const Eigen::Vector4d nm = pr.lin.transpose() * n4;
+  const double dm = plane.offset - n4.dot(t4);
+  const auto nv = static_cast<std::size_t>(mesh.positions.cols());
+  sc.s.resize(nv);
+  sc.side.resize(nv);
+  const double* P = mesh.positions.data();
   double max_norm2 = 0.0;
   for (std::size_t v = 0; v < nv; ++v) {
-    const auto x = p.col(static_cast<Eigen::Index>(v));
-    s[v] = nm.dot(x) - dm;
+    const Eigen::Map<const Eigen::Vector4d> x(P + 4 * v);
+    sc.s[v] = nm.dot(x) - dm;
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   bool any_neg = false, any_pos = false, any_on = false;
+  sc.up.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
-    side[v] = classify_side(s[v], tolerance);
-    any_neg |= side[v] == Side::Negative;
-    any_pos |= side[v] == Side::Positive;
-    any_on |= side[v] == Side::On;
+    const Side sd = classify_side(sc.s[v], tolerance);
+    sc.side[v] = sd;
+    sc.up[v] = sd > Side::On;
+    any_neg |= sd == Side::Negative;
+    any_pos |= sd == Side::Positive;
+    any_on |= sd == Side::On;
   }
+  pr.any_neg = any_neg, pr.any_pos = any_pos, pr.any_on = any_on;
+  // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
+  pr.normal_map = pr.lin.inverse().transpose();
+  pr.flip = pr.lin.determinant() < 0.0;
+  pr.bt = frame.basis.transpose();
+  pr.offset = pr.bt * (t4 - plane.offset * n4);
+  pr.W = pr.bt * pr.lin;
+  pr.NB = pr.bt * pr.normal_map;
+  return pr;
+}
+
+// The indexed cut when no vertex is on the plane (every crossing is interior to its edge, no
+// triangle degenerates, no face lies in the plane). One pass over the corners' side bits lists
+// the cut tetrahedra (all on one side: skipped at once; for cells of many tetrahedra, a block
+// whose vertices are all on one side is skipped whole) and counts their triangles; three short
+// passes over the cut tetrahedra's corner slots give each crossing edge one output vertex
+// (claims, numbering, look-up: no branch, no store-to-load chain); one pass over the vertices
+// computes each crossing once (one division per crossing edge, not per tetrahedron around it);
+// one pass writes the triangles through the 16-case table, turned by the table's combinatorial
+// orientation (the tetrahedra are positively oriented with their cell's normal, so no geometric
+// test is needed).
+void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
+                 TetSliceMesh& out) {
+  const std::array<std::uint32_t, 2>* edges = index.edges.data();
+  const std::size_t ne = index.edges.size();
+  const std::array<std::uint32_t, 6>* tet_edges = index.tet_edges.data();
+  const IndexedCase* table = kIndexedTable[pr.flip ? 1 : 0].data();
+  const std::size_t T = mesh.size();
+  sc.cut.resize(T);
+  const std::uint8_t* up = sc.up.data();
+  std::uint32_t* cut = sc.cut.data();
+  std::size_t ncut = 0, tris = 0;
+  const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
+  auto test_tets = [&](std::size_t t0, std::size_t t1) {
+    for (std::size_t t = t0; t < t1; ++t) {
+      const auto& tv = tets[t];
+      const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
+      cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
+      ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
+      tris += table[mask].tris;
+    }
+  };
+  const std::size_t nblocks = index.block_first.size() - 1;
+  if (4 * nblocks <= T) {
+    // Blocks of four or more tetrahedra on average (cells of many tetrahedra): a block whose
+    // distinct vertices are all on one side is skipped whole.
+    const std::uint32_t* bf = index.block_first.data();
+    const std::uint32_t* bvf = index.block_vertex_first.data();
+    const std::uint32_t* bv = index.block_vertices.data();
+    for (std::size_t b = 0; b < nblocks; ++b) {
+      unsigned any = 0, all = 1;
+      for (std::uint32_t j = bvf[b]; j < bvf[b + 1]; ++j) {
+        any |= up[bv[j]];
+        all &= up[bv[j]];
+      }
+      if (any & ~all) test_tets(bf[b], bf[b + 1]);
+    }
+  } else {
+    test_tets(0, T);
+  }
+  // One triangle of slack: a tetrahedron writes both triangles of a quad, a triangle's second
+  // is overwritten by the next tetrahedron (no branch on the case); trimmed at the end.
+  out.triangles.resize(3 * tris + 3);
+  out.normals.resize(3 * tris + 3);
+  out.uvw.resize(9 * tris + 9);
+  out.tet.resize(tris + 1);
+  out.cell.resize(tris + 1);
+  if (tris == 0) {
+    out.triangles.clear();
+    out.normals.clear();
+    out.uvw.clear();
+    out.tet.clear();
+    out.cell.clear();
+    out.positions.clear();
+    out.vertex_source.clear();
+    return;
+  }
+  // Output vertices, one per crossing edge, without a load that waits for a store of the
+  // previous tetrahedron (neighbours share edges, and a first-sight test would chain them through
+  // store forwarding): every corner slot j = 4 i + k claims its edge (owner[e] = j, the last
+  // claim stays), the owning slots number the vertices in slot order, and every slot reads its
+  // owner's number. The same for the cut cells (their normals are computed together below).
+  if (sc.edge_owner.size() < ne) sc.edge_owner.resize(ne);
+  if (sc.cell_owner.size() < mesh.cell_count()) sc.cell_owner.resize(mesh.cell_count());
+  if (sc.cell_n3.size() < 3 * mesh.cell_count()) sc.cell_n3.resize(3 * mesh.cell_count());
+  const std::size_t nslot = 4 * ncut;
+  sc.slot_edge.resize(nslot);
+  sc.slot_vid.resize(nslot);
+  sc.corner_vid.resize(nslot);
+  sc.crossing.resize(nslot);
+  sc.cut_cells.resize(ncut);
+  std::uint32_t* owner = sc.edge_owner.data();
+  std::uint32_t* cell_owner = sc.cell_owner.data();
+  std::uint32_t* slot_edge = sc.slot_edge.data();
+  std::uint32_t* slot_vid = sc.slot_vid.data();
+  std::uint32_t* corner_vid = sc.corner_vid.data();
+  std::uint32_t* crossing = sc.crossing.data();
+  std::uint32_t* cut_cells = sc.cut_cells.data();
+  const std::uint32_t* tet_cell = mesh.tet_cell.data();
+  for (std::size_t i = 0; i < ncut; ++i) {
+    const std::uint32_t t = cut[i] >> 4;
+    const IndexedCase& ic = table[cut[i] & 15u];
+    const auto& te = tet_edges[t];
+    cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const std::uint32_t e = te[ic.local[k]];
+      slot_edge[4 * i + k] = e;
+      owner[e] = static_cast<std::uint32_t>(4 * i + k);
+    }
+  }
+  std::uint32_t nvert = 0;
+  std::size_t ncells = 0;
+  for (std::size_t j = 0; j < nslot; ++j) {
+    const std::uint32_t e = slot_edge[j];
+    const bool own = owner[e] == j;
+    slot_vid[j] = nvert;
+    crossing[nvert] = e;
+    nvert += own;
+  }
+  for (std::size_t j = 0; j < nslot; ++j) corner_vid[j] = slot_vid[owner[slot_edge[j]]];
+  for (std::size_t i = 0; i < ncut; ++i) {
+    const std::uint32_t c = tet_cell[cut[i] >> 4];
+    cut_cells[ncells] = c;
+    ncells += cell_owner[c] == i;
+  }
+  // The crossings, each once.
+  out.positions.resize(3 * std::size_t{nvert});
+  out.vertex_source.resize(nvert);
+  sc.u.resize(nvert);
+  const double* P = mesh.positions.data();
+  const double* s = sc.s.data();
+  double* U = sc.u.data();
+  double* out_pos = out.positions.data();
+  TetCutPoint* out_src = out.vertex_source.data();
+  const Eigen::Matrix<double, 3, 4>& W = pr.W;
+  for (std::uint32_t v = 0; v < nvert; ++v) {
+    const auto& ab = edges[crossing[v]];
+    const std::uint32_t a = ab[0], b = ab[1];
+    const double u = s[a] / (s[a] - s[b]);
+    const double* xa = P + 4 * std::size_t{a};
+    const double* xb = P + 4 * std::size_t{b};
+    double x[4];
+    for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
+    for (int r = 0; r < 3; ++r)
+      out_pos[3 * v + static_cast<std::size_t>(r)] =
+          W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
+    out_src[v] = {a, b, u};
+    U[v] = u;
+  }
+  // The projected unit normals of the cut cells: independent square roots and divisions, no
+  // branch.
+  {
+    const double* CN = mesh.cell_normals.data();
+    double* n3 = sc.cell_n3.data();
+    const Eigen::Matrix<double, 3, 4>& NB = pr.NB;
+    for (std::size_t j = 0; j < ncells; ++j) {
+      const std::size_t c = cut_cells[j];
+      const double* n = CN + 4 * c;
+      double y[3];
+      for (int r = 0; r < 3; ++r)
+        y[r] = NB(r, 0) * n[0] + NB(r, 1) * n[1] + NB(r, 2) * n[2] + NB(r, 3) * n[3];
+      const double z = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      const double inv = z > 0.0 ? 1.0 / std::sqrt(z) : 0.0;
+      for (int r = 0; r < 3; ++r) n3[3 * c + static_cast<std::size_t>(r)] = y[r] * inv;
+    }
+  }
+  // The triangles.
+  const double* cell_n3 = sc.cell_n3.data();
+  const double* UVW = mesh.corner_uvw.data();
+  std::uint32_t* out_tri = out.triangles.data();
+  double* out_nrm = out.normals.data();
+  double* out_uvw = out.uvw.data();
+  std::uint32_t* out_tet = out.tet.data();
+  std::uint32_t* out_cell = out.cell.data();
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < ncut; ++i) {
+    const std::uint32_t t = cut[i] >> 4;
+    const IndexedCase& ic = table[cut[i] & 15u];
+    const auto& tv = tets[t];
+    const std::uint32_t cell = tet_cell[t];
+    const double* n3 = cell_n3 + 3 * std::size_t{cell};
+    const std::uint32_t* vid = corner_vid + 4 * i;
+    double uvw[4][3];
+    for (int k = 0; k < 4; ++k) {
+      // u runs from the lower vertex id of the edge.
+      const int ka = ic.ka[k], kb = ic.kb[k];
+      const bool a_low = tv[static_cast<std::size_t>(ka)] < tv[static_cast<std::size_t>(kb)];
+      const int lo = a_low ? ka : kb, hi = a_low ? kb : ka;
+      const double u = U[vid[k]];
+      const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(lo));
+      const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(hi));
+      for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
+    }
+    // The fan (0, 1, 2), (0, 2, 3) of the outward cycle; a triangle's second is overwritten by
+    // the next tetrahedron (or trimmed): no branch on the case.
+    auto emit = [&](std::size_t at, int i0, int i1, int i2) {
+      const int c[3] = {i0, i1, i2};
+      for (int k = 0; k < 3; ++k) {
+        out_tri[3 * at + static_cast<std::size_t>(k)] = vid[c[k]];
+        for (int r = 0; r < 3; ++r)
+          out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
+      }
+      for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
+      out_tet[at] = t;
+      out_cell[at] = cell;
+    };
+    emit(w, 0, 1, 2);
+    emit(w + 1, 0, 2, 3);
+    w += ic.tris;
+  }
+  assert(w == tris);
+  out.triangles.resize(3 * tris);
+  out.normals.resize(3 * tris);
+  out.uvw.resize(9 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
+}
+
+// The general cut into a soup (vertices on the plane: degenerate triangles dropped, flat faces
+// between two tetrahedra cancelled); on-plane vertices count as positive or negative.
+void cut_general(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetSection& out) {
+  out.corners.clear();
+  out.tet.clear();
+  out.cell.clear();
+  auto& all_pos = sc.all_pos;
+  auto& all_nrm = sc.all_nrm;
+  auto& all_uvw = sc.all_uvw;
+  auto& pos_buf = sc.pos_buf;
+  auto& nrm_buf = sc.nrm_buf;
+  auto& uvw_buf = sc.uvw_buf;
+  auto& cut_buf = sc.cut_buf;
+  all_pos.clear();
+  all_nrm.clear();
+  all_uvw.clear();
+  const auto& side = sc.side;
+  const auto& s = sc.s;
+  const auto& p = mesh.positions;
+  const Eigen::Matrix4d& lin = pr.lin;
+  const Eigen::Matrix4d& normal_map = pr.normal_map;
+  const Eigen::Matrix<double, 3, 4>& bt = pr.bt;
+  const Eigen::Vector3d& offset = pr.offset;
+  const bool any_on = pr.any_on;
   const auto finish = [&] {
     const auto n = static_cast<Eigen::Index>(all_pos.size());
     if (out.positions.cols() != n) out.positions.resize(3, n);
@@ -300,19 +505,10 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
       out.uvw.col(i) = all_uvw[j];
     }
   };
-  if (!any_pos && !any_neg) {  // everything on the plane: a flat model
+  if (!pr.any_pos && !pr.any_neg) {  // everything on the plane: a flat model
     finish();
     return;
   }
-
-  // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
-  const Eigen::Matrix4d lin = xf.linear();
-  const Eigen::Matrix4d normal_map = lin.inverse().transpose();
-  const Eigen::MatrixXd& basis = out.frame.basis;
-  const Eigen::Matrix<double, 3, 4> bt = basis.transpose();
-  const Eigen::Vector3d offset = bt * (xf.translation() - out.frame.origin());
-
-  // One pass of the cut; on-plane vertices count as positive or negative.
   auto run = [&](bool on_is_positive) {
     // Corner k counts as positive when its side is at least `floor` (Side: -1, 0, +1).
     const int floor = on_is_positive ? 0 : 1;
@@ -418,13 +614,147 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
   };
   // On counts as positive; when that leaves nothing (the plane touches the model from below),
   // as negative, so that a facet lying in the plane is returned (as cw4d::section does).
-  if (!any_on) {
-    cut_generic(mesh, s.data(), side.data(), bt * lin, offset, bt * normal_map, out);
-    return;
-  }
   run(true);
   if (out.tet.empty() && any_on) run(false);
   finish();
+}
+
+// The indexed form of a soup: corners with the same source become one vertex (the first
+// corner's position), numbered in order of first appearance.
+void weld_soup(const TetSection& soup, TetSliceMesh& out) {
+  const std::size_t T = soup.triangle_count();
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> index;
+  out.positions.clear();
+  out.vertex_source.clear();
+  out.triangles.resize(3 * T);
+  out.normals.resize(3 * T);
+  out.uvw.resize(9 * T);
+  out.tet = soup.tet;
+  out.cell = soup.cell;
+  for (std::size_t i = 0; i < T; ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t c = 3 * i + k;
+      const TetCutPoint& cp = soup.corners[c];
+      const auto [it, fresh] = index.emplace(std::make_pair(cp.a, cp.b),
+                                             static_cast<std::uint32_t>(out.vertex_source.size()));
+      if (fresh) {
+        out.vertex_source.push_back(cp);
+        for (int r = 0; r < 3; ++r)
+          out.positions.push_back(soup.positions(r, static_cast<Eigen::Index>(c)));
+      }
+      out.triangles[c] = it->second;
+      for (int r = 0; r < 3; ++r)
+        out.uvw[3 * c + static_cast<std::size_t>(r)] = soup.uvw(r, static_cast<Eigen::Index>(c));
+    }
+    for (int r = 0; r < 3; ++r)
+      out.normals[3 * i + static_cast<std::size_t>(r)] =
+          soup.normals(r, static_cast<Eigen::Index>(3 * i));
+  }
+}
+
+// The mesh's edge and block index, or one built here when its tets were changed after
+// tetrahedralize (kept per thread for the next slice of the same tets).
+const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
+  if (mesh.tet_edges.size() == mesh.tets.size() && !mesh.block_first.empty() &&
+      mesh.block_first.back() == mesh.tets.size() &&
+      mesh.block_vertex_first.size() == mesh.block_first.size())
+    return mesh;
+  if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||
+      sc.edge_mesh.block_first.empty()) {
+    sc.edge_mesh.tets = mesh.tets;
+    sc.edge_mesh.tet_cell = mesh.tet_cell;
+    index_tet_edges(sc.edge_mesh);
+  }
+  return sc.edge_mesh;
+}
+
+}  // namespace
+
+void to_soup(const TetSliceMesh& slice, TetSection& out) {
+  out.frame = slice.frame;
+  const std::size_t T = slice.triangle_count();
+  const auto n = static_cast<Eigen::Index>(3 * T);
+  if (out.positions.cols() != n) out.positions.resize(3, n);
+  if (out.normals.cols() != n) out.normals.resize(3, n);
+  if (out.uvw.cols() != n) out.uvw.resize(3, n);
+  out.corners.resize(3 * T);
+  out.tet = slice.tet;
+  out.cell = slice.cell;
+  for (std::size_t c = 0; c < 3 * T; ++c) {
+    const std::uint32_t v = slice.triangles[c];
+    const auto col = static_cast<Eigen::Index>(c);
+    for (int r = 0; r < 3; ++r) {
+      out.positions(r, col) = slice.positions[3 * v + static_cast<std::size_t>(r)];
+      out.normals(r, col) = slice.normals[3 * (c / 3) + static_cast<std::size_t>(r)];
+      out.uvw(r, col) = slice.uvw[3 * c + static_cast<std::size_t>(r)];
+    }
+    out.corners[c] = slice.vertex_source[v];
+  }
+}
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
+  return slice_tets(mesh, plane, AffineTransform::identity(4));
+}
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+  TetSection out;
+  slice_tets(mesh, plane, xf, out);
+  return out;
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
+  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
+  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSection& out) {
+  Scratch& sc = scratch();
+  if (plane.dim() == 4) set_frame(out.frame, plane);
+  const Prepared pr = prepare(mesh, plane, xf, out.frame, sc);
+  if (!pr.any_on && (!pr.any_pos || !pr.any_neg)) {  // the plane misses the model
+    out.positions.resize(3, 0);
+    out.normals.resize(3, 0);
+    out.uvw.resize(3, 0);
+    out.corners.clear();
+    out.tet.clear();
+    out.cell.clear();
+    return;
+  }
+  if (pr.any_on) {
+    cut_general(mesh, pr, sc, out);
+    return;
+  }
+  set_frame(sc.indexed.frame, plane);
+  cut_indexed(mesh, edge_index(mesh, sc), pr, sc, sc.indexed);
+  to_soup(sc.indexed, out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSliceMesh& out) {
+  Scratch& sc = scratch();
+  if (plane.dim() == 4) set_frame(out.frame, plane);
+  const Prepared pr = prepare(mesh, plane, xf, out.frame, sc);
+  if (!pr.any_on && (!pr.any_pos || !pr.any_neg)) {  // the plane misses the model
+    out.positions.clear();
+    out.vertex_source.clear();
+    out.triangles.clear();
+    out.normals.clear();
+    out.uvw.clear();
+    out.tet.clear();
+    out.cell.clear();
+    return;
+  }
+  if (pr.any_on) {
+    set_frame(sc.soup.frame, plane);
+    cut_general(mesh, pr, sc, sc.soup);
+    weld_soup(sc.soup, out);
+    return;
+  }
+  cut_indexed(mesh, edge_index(mesh, sc), pr, sc, out);
 }
 
 Section to_section(const TetSection& slice, const Complex& model) {

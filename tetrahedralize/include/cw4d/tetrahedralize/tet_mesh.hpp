@@ -55,6 +55,26 @@ struct TetMesh {
   Eigen::Matrix4Xd cell_normals;
   /// Texture coordinate of each corner, 3 x 4T (see UvwMapping).
   Eigen::Matrix3Xd corner_uvw;
+  /// The edges of the tetrahedra, each once, as vertex pairs {a, b} with a < b, numbered in order
+  /// of first appearance (tetrahedron by tetrahedron, corner pairs in kTetEdgeCorners order).
+  /// Filled by tetrahedralize; index_tet_edges rebuilds them after `tets` was changed.
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  /// Edge ids of each tetrahedron's six corner pairs, in kTetEdgeCorners order.
+  std::vector<std::array<std::uint32_t, 6>> tet_edges;
+  /// Runs of consecutive tetrahedra of one cell ("blocks"): block b is the tetrahedra
+  /// [block_first[b], block_first[b + 1]). The slicer skips a block whose vertices are all on one
+  /// side without looking at its tetrahedra.
+  std::vector<std::uint32_t> block_first;
+  /// The distinct vertices of block b: block_vertices[block_vertex_first[b] ..
+  /// block_vertex_first[b + 1]).
+  std::vector<std::uint32_t> block_vertex_first, block_vertices;
+
+  /// The corner pairs of a tetrahedron's edges, in the order of tet_edges.
+  static constexpr std::array<std::array<int, 2>, 6> kTetEdgeCorners = {
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+  /// Whether edges, tet_edges and the blocks describe the current tets (every edge's ends, every
+  /// block's range and vertices).
+  bool has_edge_index() const;
 
   std::size_t size() const { return tets.size(); }
   std::size_t cell_count() const { return static_cast<std::size_t>(cell_normals.cols()); }
@@ -130,6 +150,12 @@ struct TetStats {
 ///        never a crash or an exit).
 TetMesh tetrahedralize(const Complex& complex, const TetOptions& options = {},
                        TetStats* stats = nullptr);
+
+/// Fills mesh.edges and mesh.tet_edges from mesh.tets (each corner pair of each tetrahedron gets
+/// the id of its edge; ids in order of first appearance), and the blocks from mesh.tets and
+/// mesh.tet_cell. tetrahedralize calls it; call it again after changing tets or tet_cell (the
+/// slicer only checks the sizes).
+void index_tet_edges(TetMesh& mesh);
 
 /// The triangles of every face of the complex in the global triangulation tetrahedralize uses:
 /// entry f holds face f's triangles (vertex ids) in the face's orientation.

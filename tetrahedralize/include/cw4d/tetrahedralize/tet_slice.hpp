@@ -49,6 +49,43 @@ struct TetSection {
   double area() const;
 };
 
+/// The same slice as an indexed triangle mesh: one vertex per mesh edge crossing the plane (and
+/// per mesh vertex on it), triangles as vertex ids. The crossing of an edge is computed once and
+/// shared by every tetrahedron around that edge, so neighbouring triangles are welded. Flat
+/// arrays whose storage is kept between slices. Triangles come in the order, orientation and
+/// corner order of TetSection's (to_soup gives that TetSection).
+struct TetSliceMesh {
+  HyperplaneFrame frame;
+  /// 3V: vertex v at [3v, 3v + 3), section coordinates (frame.basis).
+  std::vector<double> positions;
+  /// V: where each vertex comes from (a crossing of mesh edge (a, b), a < b, at t, or mesh
+  /// vertex a on the plane, a == b). No two vertices have the same (a, b).
+  std::vector<TetCutPoint> vertex_source;
+  /// 3T: the vertex ids of triangle i at [3i, 3i + 3), counter-clockwise seen from outside.
+  std::vector<std::uint32_t> triangles;
+  /// 3T: the unit normal of triangle i (its cell's outward normal projected into the plane).
+  std::vector<double> normals;
+  /// 9T: texture coordinates of corner k of triangle i at [9i + 3k, 9i + 3k + 3), interpolated
+  /// along the cut edge of the source tetrahedron (corners of different cells differ).
+  std::vector<double> uvw;
+  std::vector<std::uint32_t> tet;   ///< T: source tetrahedron
+  std::vector<std::uint32_t> cell;  ///< T: source 3-cell of the model
+
+  std::size_t vertex_count() const { return vertex_source.size(); }
+  std::size_t triangle_count() const { return tet.size(); }
+  bool empty() const { return tet.empty(); }
+  Eigen::Map<const Eigen::Matrix3Xd> position_matrix() const {
+    return {positions.data(), 3, static_cast<Eigen::Index>(vertex_count())};
+  }
+  Eigen::Vector3d position(std::size_t v) const {
+    return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
+  }
+};
+
+/// The triangle soup of an indexed slice: corner k of triangle i gets the position and source of
+/// its vertex, the triangle's normal and its own uvw.
+void to_soup(const TetSliceMesh& slice, TetSection& out);
+
 /// The 16-case table: for the sign mask m (bit k set when corner k is on the positive side),
 /// kTetCutTable[m] lists the cut edges (corner pairs) in cycle order; 0, 3 or 4 entries.
 struct TetCutCase {
@@ -72,6 +109,13 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
                 TetSection& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 #define CW4D_TET_SLICE_INTO 1
+/// The same slice as an indexed mesh (the fast form: no per-corner copies of positions and
+/// normals), written into `out`, whose storage is reused; to_soup(out) is the TetSection of the
+/// overloads above.
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
+                TetSliceMesh& out);
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
+#define CW4D_TET_SLICE_INDEXED 1
 
 /// The slice as a Section of `model` (the complex the mesh was made from): a 3D complex of the
 /// triangles with welded vertices, source cells in source[2], facet normals (the projected cell
