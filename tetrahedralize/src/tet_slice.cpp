@@ -281,7 +281,7 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const std::size_t T = mesh.size();
   sc.cut.resize(T);
   const std::uint8_t* up = sc.up.data();
-  std::uint32_t* cut = sc.cut.data();
+  std::uint32_t* __restrict cut = sc.cut.data();
   std::size_t ncut = 0, tris = 0;
   const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
   auto test_tets = [&](std::size_t t0, std::size_t t1) {
@@ -342,13 +342,13 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   sc.corner_vid.resize(nslot);
   sc.crossing.resize(nslot);
   sc.cut_cells.resize(ncut);
-  std::uint32_t* owner = sc.edge_owner.data();
-  std::uint32_t* cell_owner = sc.cell_owner.data();
-  std::uint32_t* slot_edge = sc.slot_edge.data();
-  std::uint32_t* slot_vid = sc.slot_vid.data();
-  std::uint32_t* corner_vid = sc.corner_vid.data();
-  std::uint32_t* crossing = sc.crossing.data();
-  std::uint32_t* cut_cells = sc.cut_cells.data();
+  std::uint32_t* __restrict owner = sc.edge_owner.data();
+  std::uint32_t* __restrict cell_owner = sc.cell_owner.data();
+  std::uint32_t* __restrict slot_edge = sc.slot_edge.data();
+  std::uint32_t* __restrict slot_vid = sc.slot_vid.data();
+  std::uint32_t* __restrict corner_vid = sc.corner_vid.data();
+  std::uint32_t* __restrict crossing = sc.crossing.data();
+  std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
@@ -382,9 +382,9 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   sc.u.resize(nvert);
   const double* P = mesh.positions.data();
   const double* s = sc.s.data();
-  double* U = sc.u.data();
-  double* out_pos = out.positions.data();
-  TetCutPoint* out_src = out.vertex_source.data();
+  double* __restrict U = sc.u.data();
+  double* __restrict out_pos = out.positions.data();
+  TetCutPoint* __restrict out_src = out.vertex_source.data();
   const Eigen::Matrix<double, 3, 4>& W = pr.W;
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[v]];
@@ -404,7 +404,7 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // branch.
   {
     const double* CN = mesh.cell_normals.data();
-    double* n3 = sc.cell_n3.data();
+    double* __restrict n3 = sc.cell_n3.data();
     const Eigen::Matrix<double, 3, 4>& NB = pr.NB;
     for (std::size_t j = 0; j < ncells; ++j) {
       const std::size_t c = cut_cells[j];
@@ -420,11 +420,11 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // The triangles.
   const double* cell_n3 = sc.cell_n3.data();
   const double* UVW = mesh.corner_uvw.data();
-  std::uint32_t* out_tri = out.triangles.data();
-  double* out_nrm = out.normals.data();
-  double* out_uvw = out.uvw.data();
-  std::uint32_t* out_tet = out.tet.data();
-  std::uint32_t* out_cell = out.cell.data();
+  std::uint32_t* __restrict out_tri = out.triangles.data();
+  double* __restrict out_nrm = out.normals.data();
+  double* __restrict out_uvw = out.uvw.data();
+  std::uint32_t* __restrict out_tet = out.tet.data();
+  std::uint32_t* __restrict out_cell = out.cell.data();
   std::size_t w = 0;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
@@ -680,16 +680,25 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
   out.corners.resize(3 * T);
   out.tet = slice.tet;
   out.cell = slice.cell;
-  for (std::size_t c = 0; c < 3 * T; ++c) {
-    const std::uint32_t v = slice.triangles[c];
-    const auto col = static_cast<Eigen::Index>(c);
-    for (int r = 0; r < 3; ++r) {
-      out.positions(r, col) = slice.positions[3 * v + static_cast<std::size_t>(r)];
-      out.normals(r, col) = slice.normals[3 * (c / 3) + static_cast<std::size_t>(r)];
-      out.uvw(r, col) = slice.uvw[3 * c + static_cast<std::size_t>(r)];
+  if (T == 0) return;
+  std::copy(slice.uvw.begin(), slice.uvw.end(), out.uvw.data());  // the same layout
+  const std::uint32_t* tri = slice.triangles.data();
+  const double* P = slice.positions.data();
+  const double* N = slice.normals.data();
+  const TetCutPoint* src = slice.vertex_source.data();
+  double* op = out.positions.data();
+  double* on = out.normals.data();
+  TetCutPoint* oc = out.corners.data();
+  for (std::size_t i = 0; i < T; ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t c = 3 * i + k;
+      const std::size_t v = tri[c];
+      for (std::size_t r = 0; r < 3; ++r) {
+        op[3 * c + r] = P[3 * v + r];
+        on[3 * c + r] = N[3 * i + r];
+      }
+      oc[c] = src[v];
     }
-    out.corners[c] = slice.vertex_source[v];
-  }
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
