@@ -1,8 +1,9 @@
 // The indexed tetrahedral slice (TetSliceMesh) against an oracle written here from the mesh's
 // tetrahedra alone (per tetrahedron: the crossings of its sign-changing edges, the convex polygon
 // they span, oriented along the cell's projected outward normal), its welding (one vertex per
-// crossing edge), its closed oriented surface, the soup API, transforms that reflect, and the
-// mesh's edge index.
+// crossing edge), its closed oriented surface, the soup API (a separate per-tetrahedron cut with
+// a geometric orientation test: the same triangles in the same order), transforms that reflect,
+// and the mesh's edge index.
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
@@ -247,17 +248,37 @@ void check_against_oracle(const Model& m, const Hyperplane& plane, const AffineT
   REQUIRE(i == s.triangle_count());
   check_closed_oriented(s);
 
-  // The soup API gives this slice corner by corner.
+  // The soup API (its own per-tetrahedron cut) gives the same triangles corner by corner, up to
+  // rounding; to_soup is this slice corner by corner.
   const TetSection soup = slice_tets(m.mesh, plane, xf);
   TetSection expanded;
   to_soup(s, expanded);
   REQUIRE(soup.triangle_count() == s.triangle_count());
-  REQUIRE(soup.positions == expanded.positions);
-  REQUIRE(soup.normals == expanded.normals);
-  REQUIRE(soup.uvw == expanded.uvw);
-  REQUIRE(soup.corners == expanded.corners);
-  REQUIRE(soup.tet == expanded.tet);
-  REQUIRE(soup.cell == expanded.cell);
+  REQUIRE(expanded.triangle_count() == s.triangle_count());
+  REQUIRE(soup.tet == s.tet);
+  REQUIRE(soup.cell == s.cell);
+  REQUIRE(expanded.tet == s.tet);
+  REQUIRE(expanded.cell == s.cell);
+  for (std::size_t c = 0; c < 3 * s.triangle_count(); ++c) {
+    const TetCutPoint& src = s.vertex_source[s.triangles[c]];
+    const auto col = static_cast<Eigen::Index>(c);
+    REQUIRE(soup.corners[c].a == src.a);
+    REQUIRE(soup.corners[c].b == src.b);
+    REQUIRE(std::abs(soup.corners[c].t - src.t) < 1e-12);
+    REQUIRE((soup.positions.col(col) - pos(s, s.triangles[c])).norm() < tol);
+    const Eigen::Vector3d n(s.normals[3 * (c / 3)], s.normals[3 * (c / 3) + 1],
+                            s.normals[3 * (c / 3) + 2]);
+    REQUIRE((soup.normals.col(col) - n).norm() < 1e-12);
+    const Eigen::Vector3d uvw(s.uvw[3 * c], s.uvw[3 * c + 1], s.uvw[3 * c + 2]);
+    REQUIRE((soup.uvw.col(col) - uvw).norm() < 1e-12);
+    // to_soup: exact copies
+    REQUIRE(expanded.corners[c].a == src.a);
+    REQUIRE(expanded.corners[c].b == src.b);
+    REQUIRE(expanded.corners[c].t == src.t);
+    REQUIRE(expanded.positions.col(col) == pos(s, s.triangles[c]));
+    REQUIRE(expanded.normals.col(col) == n);
+    REQUIRE(expanded.uvw.col(col) == uvw);
+  }
 }
 
 bool same(const TetSliceMesh& a, const TetSliceMesh& b) {

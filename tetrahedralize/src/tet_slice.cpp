@@ -144,6 +144,7 @@ struct IndexedCase {
   std::uint8_t local[4];
   std::uint8_t ka[4], kb[4];
   std::uint8_t tris;
+  std::uint8_t swap;  // a turned quad writes its fan's second triangle first (the soup's order)
 };
 constexpr std::array<IndexedCase, 16> make_indexed_table(bool flip) {
   std::array<IndexedCase, 16> t{};
@@ -152,6 +153,7 @@ constexpr std::array<IndexedCase, 16> make_indexed_table(bool flip) {
     IndexedCase& ic = t[static_cast<std::size_t>(m)];
     ic.tris = static_cast<std::uint8_t>(c.count == 4 ? 2 : c.count == 3 ? 1 : 0);
     const bool reverse = reverse_case(m) != flip;
+    ic.swap = reverse && c.count == 4 ? 1 : 0;
     for (int e = 0; e < 4; ++e) {
       int src = 0;
       if (c.count > 0) {
@@ -457,8 +459,8 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       out_tet[at] = t;
       out_cell[at] = cell;
     };
-    emit(w, 0, 1, 2);
-    emit(w + 1, 0, 2, 3);
+    emit(w + ic.swap, 0, 1, 2);
+    emit(w + 1 - ic.swap, 0, 2, 3);
     w += ic.tris;
   }
   assert(w == tris);
@@ -467,6 +469,145 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   out.uvw.resize(9 * tris);
   out.tet.resize(tris);
   out.cell.resize(tris);
+}
+
+// The cut when no vertex is on the plane (every crossing is interior to its edge, no triangle
+// degenerates, no face lies in the plane): one pass over the corners' side bits lists the cut
+// tetrahedra (all on one side: skipped at once) and counts their triangles, the output is sized
+// once, and each cut tetrahedron is written straight into its final columns through the 16-case
+// table. Vertices are projected into the section frame once each (y = W p + offset), a crossing
+// interpolates the two projections. The same triangles, in the same order and orientation, as
+// the general loop of slice_tets.
+void cut_generic_soup(const TetMesh& mesh, const double* s, const Side* side,
+                      const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset,
+                      const Eigen::Matrix<double, 3, 4>& NB, TetSection& out) {
+  const std::size_t T = mesh.size();
+  const std::size_t nv = static_cast<std::size_t>(mesh.positions.cols());
+  thread_local std::vector<std::uint8_t> up_store;
+  thread_local std::vector<std::uint32_t> cut_store;
+  thread_local std::vector<double> proj_store;
+  up_store.resize(nv);
+  cut_store.resize(T);
+  proj_store.resize(3 * nv);
+  std::uint8_t* up = up_store.data();
+  for (std::size_t v = 0; v < nv; ++v) up[v] = side[v] > Side::On;
+  // Triangles per sign mask: none for 0 and 15, two for the quads (two corners each side).
+  static constexpr std::uint8_t kTris[16] = {0, 1, 1, 2, 1, 2, 2, 1, 1, 2, 2, 1, 2, 1, 1, 0};
+  std::uint32_t* cut = cut_store.data();  // (t << 4) | mask of each cut tetrahedron
+  std::size_t ncut = 0, tris = 0;
+  const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
+  for (std::size_t t = 0; t < T; ++t) {
+    const auto& tv = tets[t];
+    const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
+    cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
+    ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
+    tris += kTris[mask];
+  }
+  // (conservativeResize: a realloc, in place when the slice shrinks, where resize frees and
+  // allocates anew for every new triangle count)
+  const auto n = static_cast<Eigen::Index>(3 * tris);
+  if (out.positions.cols() != n) out.positions.conservativeResize(3, n);
+  if (out.normals.cols() != n) out.normals.conservativeResize(3, n);
+  if (out.uvw.cols() != n) out.uvw.conservativeResize(3, n);
+  out.corners.resize(3 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
+  if (tris == 0) return;
+  // The vertices in section coordinates, each once.
+  const double* P = mesh.positions.data();
+  double* Y = proj_store.data();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double* x = P + 4 * v;
+    for (int r = 0; r < 3; ++r)
+      Y[3 * v + r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + offset[r];
+  }
+  const double* UVW = mesh.corner_uvw.data();
+  const double* CN = mesh.cell_normals.data();
+  const std::uint32_t* tet_cell = mesh.tet_cell.data();
+  thread_local std::vector<std::uint32_t> cell_stamp;
+  thread_local std::vector<double> cell_n3;
+  thread_local std::uint32_t stamp = 0;
+  if (cell_stamp.size() < mesh.cell_count())
+    cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(3 * mesh.cell_count());
+  if (++stamp == 0) {  // wrapped: forget every stamp
+    std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
+    stamp = 1;
+  }
+  double* out_pos = out.positions.data();
+  double* out_nrm = out.normals.data();
+  double* out_uvw = out.uvw.data();
+  TetCutPoint* out_corner = out.corners.data();
+  std::uint32_t* out_tet = out.tet.data();
+  std::uint32_t* out_cell = out.cell.data();
+  std::size_t w = 0;  // triangles written
+  for (std::size_t i = 0; i < ncut; ++i) {
+    const std::uint32_t t = cut[i] >> 4;
+    const TetCutCase& cc = kTetCutTable[cut[i] & 15u];
+    const auto& tv = tets[t];
+    // The projected normal once per cell (every tetrahedron of a cell has the same one).
+    const std::uint32_t cell = tet_cell[t];
+    double* n3 = &cell_n3[3 * cell];
+    if (cell_stamp[cell] != stamp) {
+      cell_stamp[cell] = stamp;
+      const Eigen::Vector3d nn =
+          (NB * Eigen::Map<const Eigen::Vector4d>(CN + 4 * std::size_t{cell})).normalized();
+      n3[0] = nn[0], n3[1] = nn[1], n3[2] = nn[2];
+    }
+    // The body compiled once for triangles and once for quads (fixed trip counts).
+    auto cut_one = [&](auto count_tag) {
+      constexpr int count = decltype(count_tag)::value;
+      double pos[4][3], uvw[4][3];
+      TetCutPoint cp[4];
+      for (int e = 0; e < count; ++e) {
+        const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
+        const double u = s[a] / (s[a] - s[b]);
+        cp[e] = {a, b, u};
+        const double* ya = Y + 3 * a;
+        const double* yb = Y + 3 * b;
+        const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
+        const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
+        for (int r = 0; r < 3; ++r) {
+          pos[e][r] = (1.0 - u) * ya[r] + u * yb[r];
+          uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
+        }
+      }
+      // Orientation: the polygon's normal must point along the projected outward normal.
+      const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
+      const double d2[3] = {pos[2][0] - pos[0][0], pos[2][1] - pos[0][1], pos[2][2] - pos[0][2]};
+      double m[3] = {d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
+                     d1[0] * d2[1] - d1[1] * d2[0]};
+      if constexpr (count == 4) {
+        const double d3[3] = {pos[3][0] - pos[0][0], pos[3][1] - pos[0][1], pos[3][2] - pos[0][2]};
+        m[0] += d2[1] * d3[2] - d2[2] * d3[1];
+        m[1] += d2[2] * d3[0] - d2[0] * d3[2];
+        m[2] += d2[0] * d3[1] - d2[1] * d3[0];
+      }
+      // The turn as index arithmetic, not a branch: its sign is known only after the divisions
+      // and the normal's square root, and it is unpredictable (half the polygons turn).
+      const int rev = m[0] * n3[0] + m[1] * n3[1] + m[2] * n3[2] < 0.0;
+      auto emit = [&](int i0, int i1, int i2) {
+        const int c[3] = {i0, i1, i2};
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t col = 3 * w + static_cast<std::size_t>(k);
+          for (int r = 0; r < 3; ++r) {
+            out_pos[3 * col + r] = pos[c[k]][r];
+            out_nrm[3 * col + r] = n3[r];
+            out_uvw[3 * col + r] = uvw[c[k]][r];
+          }
+          out_corner[col] = cp[c[k]];
+        }
+        out_tet[w] = t;
+        out_cell[w] = cell;
+        ++w;
+      };
+      emit(0, 1 + rev, 2 - rev);
+      if constexpr (count == 4) emit(0, 2 + rev, 3 - rev);
+    };
+    if (cc.count == 4)
+      cut_one(std::integral_constant<int, 4>{});
+    else
+      cut_one(std::integral_constant<int, 3>{});
+  }
 }
 
 // The general cut into a soup (vertices on the plane: degenerate triangles dropped, flat faces
@@ -737,9 +878,8 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
     cut_general(mesh, pr, sc, out);
     return;
   }
-  set_frame(sc.indexed.frame, plane);
-  cut_indexed(mesh, edge_index(mesh, sc), pr, sc, sc.indexed);
-  to_soup(sc.indexed, out);
+  // The soup's own cut (the triangles of the indexed one, corner by corner, up to rounding).
+  cut_generic_soup(mesh, sc.s.data(), sc.side.data(), pr.W, pr.offset, pr.NB, out);
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,

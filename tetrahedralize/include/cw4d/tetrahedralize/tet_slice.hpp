@@ -52,8 +52,10 @@ struct TetSection {
 /// The same slice as an indexed triangle mesh: one vertex per mesh edge crossing the plane (and
 /// per mesh vertex on it), triangles as vertex ids. The crossing of an edge is computed once and
 /// shared by every tetrahedron around that edge, so neighbouring triangles are welded. Flat
-/// arrays whose storage is kept between slices. Triangles come in the order, orientation and
-/// corner order of TetSection's (to_soup gives that TetSection).
+/// arrays whose storage is kept between slices. The triangles are TetSection's, in the same
+/// order with the same corner order, sources, normals and uvw (equal up to rounding: the soup
+/// computes each crossing per tetrahedron); to_soup gives the soup of this mesh exactly. Vertex
+/// order is deterministic but otherwise unspecified.
 struct TetSliceMesh {
   HyperplaneFrame frame;
   /// 3V: vertex v at [3v, 3v + 3), section coordinates (frame.basis).
@@ -109,9 +111,10 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
                 TetSection& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 #define CW4D_TET_SLICE_INTO 1
-/// The same slice as an indexed mesh (the fast form: no per-corner copies of positions and
-/// normals), written into `out`, whose storage is reused; to_soup(out) is the TetSection of the
-/// overloads above.
+/// The same slice as an indexed mesh (the fast form: each crossing computed once, polygons turned
+/// by the sign table's combinatorial orientation, no per-corner copies of positions and normals),
+/// written into `out`, whose storage is reused (no allocation once it has grown). Planes through
+/// mesh vertices take the general loop above, welded.
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSliceMesh& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
