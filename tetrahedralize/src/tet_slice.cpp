@@ -200,9 +200,8 @@ struct Scratch {
   std::vector<double> cell_n3;
   // An edge index for meshes whose tets were changed after tetrahedralize.
   TetMesh edge_mesh;
-  // The other form, for conversions.
+  // The general loop's soup, welded for the indexed form.
   TetSection soup;
-  TetSliceMesh indexed;
   std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
   std::vector<TetCutPoint> cut_buf;
 };
