@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <span>
 #include <thread>
 
 #if defined(__GNUC__) && defined(__x86_64__)
@@ -19,6 +20,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/index.hpp"
+#include "cw4d/render/color.hpp"
 
 namespace cw4d::render {
 
@@ -174,13 +176,22 @@ ScreenVertex to_screen(const ClipVertex& v, int width, int height) {
   return s;
 }
 
+// std::llround (halfway cases away from zero) without the library call: x minus its whole
+// part is exact below 2^52.
+std::int64_t round_half_away(double x) {
+  if (!(std::abs(x) < 4503599627370496.0)) return std::llround(x);
+  const auto whole = static_cast<std::int64_t>(x);
+  const double frac = x - static_cast<double>(whole);
+  return whole + (frac >= 0.5 ? 1 : 0) - (frac <= -0.5 ? 1 : 0);
+}
+
 // Builds the screen triangle (a, b, c); false when it has no area or is culled.
 bool setup(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, bool cull_back,
            int width, int height, std::uint32_t draw, ScreenTriangle& t) {
   const ScreenVertex* v[3] = {&a, &b, &c};
   for (int i = 0; i < 3; ++i) {
-    t.x[i] = std::llround(static_cast<double>(v[i]->x) * kSubpixel);
-    t.y[i] = std::llround(static_cast<double>(v[i]->y) * kSubpixel);
+    t.x[i] = round_half_away(static_cast<double>(v[i]->x) * kSubpixel);
+    t.y[i] = round_half_away(static_cast<double>(v[i]->y) * kSubpixel);
   }
   const std::int64_t cross =
       (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
@@ -763,20 +774,32 @@ Image Rasterizer::render() const {
   return out;
 }
 
-void Rasterizer::render(Image& out) const {
-  const int width = options_.width, height = options_.height;
-  const int s = options_.samples_per_axis, spp = s * s;
-  const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
-  const auto& tris = impl_->triangles;
-  const auto& draws = impl_->draws;
+namespace {
 
-  // Binning in submission order.
-  std::vector<std::vector<std::uint32_t>> bins(static_cast<std::size_t>(tiles_x) * tiles_y);
+// Rasterizes every queued triangle tile by tile and hands each tile's resolved rows to the
+// sink: sink.fill(x, y, n) for n background pixels, sink.write(x, y, src, n) for n resolved
+// pixels (linear, premultiplied), sink.fence() when a worker is done with a tile.
+template <class Sink>
+void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle>& tris,
+                  const std::vector<DrawState>& draws, Sink& sink) {
+  const int width = options.width, height = options.height;
+  const int s = options.samples_per_axis, spp = s * s;
+  const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+
+  // Binning in submission order, counted first: bin b is items[start[b] .. start[b + 1]).
+  const std::size_t tile_count = static_cast<std::size_t>(tiles_x) * tiles_y;
+  std::vector<std::uint32_t> start(tile_count + 1, 0);
+  for (const ScreenTriangle& t : tris)
+    for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
+      for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
+        ++start[static_cast<std::size_t>(ty) * tiles_x + tx + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::uint32_t> items(start.back()), fill(start.begin(), start.end() - 1);
   for (std::uint32_t i = 0; i < tris.size(); ++i) {
     const ScreenTriangle& t = tris[i];
     for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
       for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
-        bins[static_cast<std::size_t>(ty) * tiles_x + tx].push_back(i);
+        items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = i;
   }
 
   // Sample offsets inside a pixel (fixed point), an s x s ordered grid.
@@ -790,18 +813,16 @@ void Rasterizer::render(Image& out) const {
   const bool simd = simd_available();
 #endif
 
-  out.width = width;
-  out.height = height;
-  out.pixels.resize(static_cast<std::size_t>(width) * height);
-  const glm::vec4 background = options_.background;
-  run_parallel(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
+  const glm::vec4 background = options.background;
+  run_parallel(tile_count, worker_count(options.threads), [&](std::size_t tile) {
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
     const int ty0 = static_cast<int>(tile / tiles_x) * kTile;
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
-    const auto& bin = bins[tile];
+    const std::span<const std::uint32_t> bin(items.data() + start[tile],
+                                             start[tile + 1] - start[tile]);
     if (bin.empty()) {
-      for (int y = 0; y < th; ++y) fill_pixels(&out.at(tx0, ty0 + y), background, tw);
-      store_fence();
+      for (int y = 0; y < th; ++y) sink.fill(tx0, ty0 + y, tw);
+      sink.fence();
       return;
     }
     struct Entry {
@@ -1064,19 +1085,169 @@ void Rasterizer::render(Image& out) const {
     flush();
     if (spp == 1) {
       for (int y = 0; y < th; ++y)
-        write_pixels(&out.at(tx0, ty0 + y), &color[static_cast<std::size_t>(y) * kTile], tw);
-      store_fence();
+        sink.write(tx0, ty0 + y, &color[static_cast<std::size_t>(y) * kTile], tw);
+      sink.fence();
       return;
     }
     const float inv_spp = 1.0f / static_cast<float>(spp);
-    for (int y = 0; y < th; ++y)
+    glm::vec4 resolved[kTile];
+    for (int y = 0; y < th; ++y) {
       for (int x = 0; x < tw; ++x) {
         const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
         glm::vec4 sum(0.0f);
         for (int q = 0; q < spp; ++q) sum += color[base + q];
-        out.at(tx0 + x, ty0 + y) = sum * inv_spp;
+        resolved[x] = sum * inv_spp;
       }
+      sink.write(tx0, ty0 + y, resolved, tw);
+    }
+    sink.fence();
   });
+}
+
+struct FloatSink {
+  Image& out;
+  glm::vec4 background;
+  void fill(int x, int y, int n) { fill_pixels(&out.at(x, y), background, n); }
+  void write(int x, int y, const glm::vec4* src, int n) { write_pixels(&out.at(x, y), src, n); }
+  void fence() { store_fence(); }
+};
+
+// One pixel as to_srgb8 encodes it (the same operations), `encode` standing for
+// linear_to_srgb8.
+void encode_pixel(const Srgb8Encoder& encode, const glm::vec4& p, const glm::vec3& background,
+                  bool alpha, std::uint8_t* dst) {
+  if (alpha) {
+    const float a = std::clamp(p.a, 0.0f, 1.0f);
+    const glm::vec3 c = a > 0.0f ? glm::vec3(p) / a : glm::vec3(0.0f);
+    for (int i = 0; i < 3; ++i) dst[i] = encode(c[i]);
+    dst[3] = static_cast<std::uint8_t>(std::lround(a * 255.0f));
+  } else {
+    const glm::vec3 c = glm::vec3(p) + (1.0f - std::clamp(p.a, 0.0f, 1.0f)) * background;
+    for (int i = 0; i < 3; ++i) dst[i] = encode(c[i]);
+  }
+}
+
+#ifdef CW4D_RASTER_SIMD
+// The byte of each lane as Srgb8Encoder gives it (c not NaN): the bucket's first byte by a
+// gather, then up to max_steps comparisons with the next threshold.
+CW4D_AVX2 inline __m256i encode8(const Srgb8Encoder& e, v8f c) {
+  const v8f zero = splat(0.0f), one = splat(1.0f);
+  const v8f clamped = pick(c > zero, pick(c < one, c, one), zero);
+  const __m256i bits = _mm256_castps_si256(reinterpret_cast<__m256>(clamped));
+  const __m256i bucket = _mm256_srli_epi32(bits, Srgb8Encoder::kShift);
+  __m256i k =
+      _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(e.start), bucket, 1),
+                       _mm256_set1_epi32(0xFF));
+  const __m256i ones = _mm256_set1_epi32(1);
+  for (int step = 0; step < e.max_steps; ++step) {
+    const __m256i next = _mm256_i32gather_epi32(reinterpret_cast<const int*>(e.threshold),
+                                                _mm256_add_epi32(k, ones), 4);
+    // k += 1 where bits >= next (both below 2^31: a signed comparison).
+    k = _mm256_add_epi32(k, _mm256_andnot_si256(_mm256_cmpgt_epi32(next, bits), ones));
+  }
+  return k;
+}
+
+// Eight pixels as encode_pixel encodes them; false (nothing written) when a lane is NaN, which
+// the scalar code then handles.
+CW4D_AVX2 bool encode_pixels8(const Srgb8Encoder& e, const glm::vec4* src,
+                              const glm::vec3& background, bool alpha, std::uint8_t* dst) {
+  float lanes[4][8];
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 4; ++k) lanes[k][i] = src[i][k];
+  v8f p[4];
+  for (int k = 0; k < 4; ++k) std::memcpy(&p[k], lanes[k], sizeof p[k]);
+  const v8f zero = splat(0.0f), one = splat(1.0f);
+  const v8f a = pick(p[3] < zero, zero, pick(one < p[3], one, p[3]));  // std::clamp
+  v8f c[3];
+  if (alpha) {
+    const v8i positive = a > zero;
+    for (int k = 0; k < 3; ++k) c[k] = pick(positive, p[k] / a, zero);
+  } else {
+    for (int k = 0; k < 3; ++k) c[k] = p[k] + (one - a) * background[k];
+  }
+  const v8i nan = (a != a) | (c[0] != c[0]) | (c[1] != c[1]) | (c[2] != c[2]);
+  if (_mm256_movemask_ps(reinterpret_cast<__m256>(nan))) return false;
+  __m256i packed =
+      _mm256_or_si256(encode8(e, c[0]), _mm256_or_si256(_mm256_slli_epi32(encode8(e, c[1]), 8),
+                                                        _mm256_slli_epi32(encode8(e, c[2]), 16)));
+  if (alpha) {
+    // std::lround(a * 255) for a in [0, 1]: the whole part plus one from a fraction of 1/2 on.
+    const __m256 x = reinterpret_cast<__m256>(a * 255.0f);
+    const __m256 whole = _mm256_round_ps(x, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+    const __m256 up = _mm256_cmp_ps(_mm256_sub_ps(x, whole), _mm256_set1_ps(0.5f), _CMP_GE_OQ);
+    const __m256i bytes =
+        _mm256_cvtps_epi32(_mm256_add_ps(whole, _mm256_and_ps(up, _mm256_set1_ps(1.0f))));
+    packed = _mm256_or_si256(packed, _mm256_slli_epi32(bytes, 24));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst), packed);
+    return true;
+  }
+  // RGB: the three low bytes of each pixel, 12 bytes per 128-bit half.
+  const __m256i rgb = _mm256_shuffle_epi8(
+      packed, _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4,
+                               5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1));
+  std::uint8_t bytes[32];
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(bytes), rgb);
+  std::memcpy(dst, bytes, 12);
+  std::memcpy(dst + 12, bytes + 16, 12);
+  return true;
+}
+#endif
+
+// Resolves tiles straight into 8-bit sRGB, as to_srgb8 would encode the float frame.
+struct Srgb8Sink {
+  Image8& out;
+  glm::vec3 background;  // under the picture when !alpha
+  bool alpha;
+  const Srgb8Encoder& encoder;
+  std::uint8_t fill_bytes[4];  // the raster background, encoded
+  bool simd;
+
+  void fill(int x, int y, int n) {
+    const int ch = out.channels;
+    std::uint8_t* dst = &out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch];
+    for (int i = 0; i < n; ++i, dst += ch)
+      std::memcpy(dst, fill_bytes, static_cast<std::size_t>(ch));
+  }
+  void write(int x, int y, const glm::vec4* src, int n) {
+    const int ch = out.channels;
+    std::uint8_t* dst = &out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch];
+    int i = 0;
+#ifdef CW4D_RASTER_SIMD
+    if (simd)
+      for (; i + 8 <= n; i += 8)
+        if (!encode_pixels8(encoder, src + i, background, alpha, dst + i * ch))
+          for (int j = i; j < i + 8; ++j)
+            encode_pixel(encoder, src[j], background, alpha, dst + j * ch);
+#endif
+    for (; i < n; ++i) encode_pixel(encoder, src[i], background, alpha, dst + i * ch);
+  }
+  void fence() {}
+};
+
+}  // namespace
+
+void Rasterizer::render(Image& out) const {
+  out.width = options_.width;
+  out.height = options_.height;
+  out.pixels.resize(static_cast<std::size_t>(out.width) * out.height);
+  FloatSink sink{out, options_.background};
+  render_tiles(options_, impl_->triangles, impl_->draws, sink);
+}
+
+void Rasterizer::render(Image8& out, glm::vec3 background, bool alpha) const {
+  out.width = options_.width;
+  out.height = options_.height;
+  out.channels = alpha ? 4 : 3;
+  out.bytes.resize(static_cast<std::size_t>(out.width) * out.height * out.channels);
+  const Srgb8Encoder& encoder = Srgb8Encoder::instance();
+  bool simd = false;
+#ifdef CW4D_RASTER_SIMD
+  simd = simd_available() && encoder.exact;
+#endif
+  Srgb8Sink sink{out, background, alpha, encoder, {}, simd};
+  encode_pixel(encoder, options_.background, background, alpha, sink.fill_bytes);
+  render_tiles(options_, impl_->triangles, impl_->draws, sink);
 }
 
 }  // namespace cw4d::render
