@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <numeric>
 #include <span>
@@ -887,6 +889,26 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
     };
     // Queues samples of triangle id; every full batch is shaded at once.
     auto enqueue = [&](std::uint32_t id, Entry en, std::uint32_t run) {
+#ifdef CW4D_RASTER_SIMD
+      // One sample per pixel: a run's groups of eight neighbours are shaded at once, straight
+      // into the row (the same lanes as a batch of eight, without the queue).
+      if (spp == 1 && simd && run >= kBatch) {
+        const ScreenTriangle& t = tris[bin[id]];
+        const DrawState& d = draws[t.draw];
+        if (simd_shadable(d, t)) {
+          double X[kBatch], Y[kBatch];
+          const std::int64_t y =
+              static_cast<std::int64_t>(ty0 + en.pixel / kTile) * kSubpixel + off_y[0];
+          std::fill(Y, Y + kBatch, static_cast<double>(y));
+          for (; run >= kBatch; run -= kBatch, en.pixel += kBatch) {
+            for (std::uint32_t i = 0; i < kBatch; ++i)
+              X[i] = static_cast<double>(
+                  static_cast<std::int64_t>(tx0 + en.pixel % kTile + i) * kSubpixel + off_x[0]);
+            shade8(d, t, edges[id], X, Y, &color[en.pixel]);
+          }
+        }
+      }
+#endif
       Entry* batch = &waiting[static_cast<std::size_t>(id) * kBatch];
       std::uint32_t n = waiting_count[id];
       for (std::uint32_t r = 0; r < run; ++r, ++en.pixel) {
@@ -949,7 +971,17 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
 
     std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
     std::vector<double> z_sample(spp);
+    constexpr std::uint32_t kAhead = 4;  // triangles whose coverage data is fetched ahead
     for (std::uint32_t j = 0; j < bin.size(); ++j) {
+      if (j + kAhead < bin.size()) {
+        // The bin jumps through the triangle array: load what coverage reads (the fields
+        // before inv_w, over two or three cache lines) before it is needed.
+        constexpr std::size_t kCoverageBytes = offsetof(ScreenTriangle, inv_w);
+        const char* ahead = reinterpret_cast<const char*>(&tris[bin[j + kAhead]]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + kCoverageBytes / 2);
+        __builtin_prefetch(ahead + kCoverageBytes - 1);
+      }
       const ScreenTriangle& t = tris[bin[j]];
       const DrawState& d = draws[t.draw];
       const bool test = d.options.depth_test, write = d.options.depth_write;
@@ -1150,14 +1182,30 @@ CW4D_AVX2 inline __m256i encode8(const Srgb8Encoder& e, v8f c) {
 
 // Eight pixels as encode_pixel encodes them; false (nothing written) when a lane is NaN, which
 // the scalar code then handles.
+// bg_bits: the bits of the raster background's channels; fill8: eight pixels of it, encoded.
 CW4D_AVX2 bool encode_pixels8(const Srgb8Encoder& e, const glm::vec4* src,
-                              const glm::vec3& background, bool alpha, std::uint8_t* dst) {
-  float lanes[4][8];
-  for (int i = 0; i < 8; ++i)
-    for (int k = 0; k < 4; ++k) lanes[k][i] = src[i][k];
-  v8f p[4];
-  for (int k = 0; k < 4; ++k) std::memcpy(&p[k], lanes[k], sizeof p[k]);
+                              const glm::vec3& background, bool alpha, const v8i (&bg_bits)[4],
+                              const std::uint8_t* fill8, std::uint8_t* dst) {
+  // Transposed to one register per channel, the lanes in the pixel order 0 2 4 6 1 3 5 7
+  // (undone on the packed bytes below).
+  const float* f = &src[0].x;
+  const __m256 q0 = _mm256_loadu_ps(f), q1 = _mm256_loadu_ps(f + 8);
+  const __m256 q2 = _mm256_loadu_ps(f + 16), q3 = _mm256_loadu_ps(f + 24);
+  const __m256 lo01 = _mm256_unpacklo_ps(q0, q1), hi01 = _mm256_unpackhi_ps(q0, q1);
+  const __m256 lo23 = _mm256_unpacklo_ps(q2, q3), hi23 = _mm256_unpackhi_ps(q2, q3);
+  const v8f p[4] = {reinterpret_cast<v8f>(_mm256_shuffle_ps(lo01, lo23, 0x44)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(lo01, lo23, 0xEE)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(hi01, hi23, 0x44)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(hi01, hi23, 0xEE))};
   const v8f zero = splat(0.0f), one = splat(1.0f);
+  // Eight untouched pixels (the raster background exactly): its bytes.
+  const v8i same =
+      (reinterpret_cast<v8i>(p[0]) == bg_bits[0]) & (reinterpret_cast<v8i>(p[1]) == bg_bits[1]) &
+      (reinterpret_cast<v8i>(p[2]) == bg_bits[2]) & (reinterpret_cast<v8i>(p[3]) == bg_bits[3]);
+  if (_mm256_movemask_ps(reinterpret_cast<__m256>(same)) == 0xFF) {
+    std::memcpy(dst, fill8, alpha ? 32 : 24);
+    return true;
+  }
   const v8f a = pick(p[3] < zero, zero, pick(one < p[3], one, p[3]));  // std::clamp
   v8f c[3];
   if (alpha) {
@@ -1171,6 +1219,7 @@ CW4D_AVX2 bool encode_pixels8(const Srgb8Encoder& e, const glm::vec4* src,
   __m256i packed =
       _mm256_or_si256(encode8(e, c[0]), _mm256_or_si256(_mm256_slli_epi32(encode8(e, c[1]), 8),
                                                         _mm256_slli_epi32(encode8(e, c[2]), 16)));
+  const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
   if (alpha) {
     // std::lround(a * 255) for a in [0, 1]: the whole part plus one from a fraction of 1/2 on.
     const __m256 x = reinterpret_cast<__m256>(a * 255.0f);
@@ -1179,9 +1228,11 @@ CW4D_AVX2 bool encode_pixels8(const Srgb8Encoder& e, const glm::vec4* src,
     const __m256i bytes =
         _mm256_cvtps_epi32(_mm256_add_ps(whole, _mm256_and_ps(up, _mm256_set1_ps(1.0f))));
     packed = _mm256_or_si256(packed, _mm256_slli_epi32(bytes, 24));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst), packed);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst),
+                        _mm256_permutevar8x32_epi32(packed, order));
     return true;
   }
+  packed = _mm256_permutevar8x32_epi32(packed, order);
   // RGB: the three low bytes of each pixel, 12 bytes per 128-bit half.
   const __m256i rgb = _mm256_shuffle_epi8(
       packed, _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4,
@@ -1200,14 +1251,16 @@ struct Srgb8Sink {
   glm::vec3 background;  // under the picture when !alpha
   bool alpha;
   const Srgb8Encoder& encoder;
-  std::uint8_t fill_bytes[4];  // the raster background, encoded
+  std::uint8_t fill_row[kTile * 4];  // kTile pixels of the raster background, encoded
   bool simd;
+#ifdef CW4D_RASTER_SIMD
+  v8i bg_bits[4];  // the bits of the raster background's channels, in every lane
+#endif
 
   void fill(int x, int y, int n) {
     const int ch = out.channels;
-    std::uint8_t* dst = &out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch];
-    for (int i = 0; i < n; ++i, dst += ch)
-      std::memcpy(dst, fill_bytes, static_cast<std::size_t>(ch));
+    std::memcpy(&out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch], fill_row,
+                static_cast<std::size_t>(n) * ch);
   }
   void write(int x, int y, const glm::vec4* src, int n) {
     const int ch = out.channels;
@@ -1216,7 +1269,7 @@ struct Srgb8Sink {
 #ifdef CW4D_RASTER_SIMD
     if (simd)
       for (; i + 8 <= n; i += 8)
-        if (!encode_pixels8(encoder, src + i, background, alpha, dst + i * ch))
+        if (!encode_pixels8(encoder, src + i, background, alpha, bg_bits, fill_row, dst + i * ch))
           for (int j = i; j < i + 8; ++j)
             encode_pixel(encoder, src[j], background, alpha, dst + j * ch);
 #endif
@@ -1245,8 +1298,19 @@ void Rasterizer::render(Image8& out, glm::vec3 background, bool alpha) const {
 #ifdef CW4D_RASTER_SIMD
   simd = simd_available() && encoder.exact;
 #endif
+#ifdef CW4D_RASTER_SIMD
+  Srgb8Sink sink{out, background, alpha, encoder, {}, simd, {}};
+#else
   Srgb8Sink sink{out, background, alpha, encoder, {}, simd};
-  encode_pixel(encoder, options_.background, background, alpha, sink.fill_bytes);
+#endif
+  for (int i = 0; i < kTile; ++i)
+    encode_pixel(encoder, options_.background, background, alpha, sink.fill_row + i * out.channels);
+#ifdef CW4D_RASTER_SIMD
+  for (int k = 0; k < 4; ++k) {
+    const int bits = std::bit_cast<int>(options_.background[k]);
+    sink.bg_bits[k] = v8i{bits, bits, bits, bits, bits, bits, bits, bits};
+  }
+#endif
   render_tiles(options_, impl_->triangles, impl_->draws, sink);
 }
 
