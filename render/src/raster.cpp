@@ -569,9 +569,12 @@ void fill_pixels(glm::vec4* dst, const glm::vec4& value, int n) {
 
 struct Rasterizer::Impl {
   std::vector<DrawState> draws;
-  std::vector<ScreenTriangle> triangles;
-  // Scratch of draw(), kept so that a rasterizer drawing frame after frame reuses it.
-  std::vector<std::vector<ScreenTriangle>> parts;
+  // The queued triangles in submission order, blocks[0 .. used) one after the other (a block
+  // per geometry work item, so its output is never copied); clear() keeps their storage, so
+  // that a rasterizer drawing frame after frame reuses it.
+  std::vector<std::vector<ScreenTriangle>> blocks;
+  std::size_t used = 0;
+  std::size_t count = 0;             // triangles in blocks[0 .. used)
   std::vector<ScreenVertex> screen;  // per mesh vertex, when inside the frustum
   std::vector<unsigned> codes;       // per mesh vertex: outcode
 };
@@ -593,12 +596,13 @@ Rasterizer::Rasterizer(Rasterizer&&) noexcept = default;
 Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
 
 std::size_t Rasterizer::queued_triangles() const {
-  return impl_->triangles.size();
+  return impl_->count;
 }
 
 void Rasterizer::clear() {
   impl_->draws.clear();
-  impl_->triangles.clear();
+  impl_->used = 0;
+  impl_->count = 0;
 }
 
 namespace {
@@ -614,29 +618,33 @@ void run_parallel(std::size_t n, int threads, F&& f) {
   cw4d::parallel_for(n, static_cast<unsigned>(std::max(1, threads)), std::forward<F>(f));
 }
 
-// Geometry stage over chunks: each chunk's output is kept apart and concatenated in order, so
-// the result is independent of the number of workers.
+// Geometry stage over chunks: each chunk's output is a block of its own, appended in order
+// after the queued ones, so the result is independent of the number of workers. With sort
+// (blended draws) the draw's blocks are joined into one and sorted back to front, stably.
 template <class Produce>
-void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out,
-                std::vector<std::vector<ScreenTriangle>>& parts, Produce&& produce) {
+void run_chunks(std::size_t count, int threads, bool sort,
+                std::vector<std::vector<ScreenTriangle>>& blocks, std::size_t& used,
+                std::size_t& queued, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
-  if (parts.size() < chunks) parts.resize(chunks);
+  if (blocks.size() < used + chunks) blocks.resize(used + chunks);
   run_parallel(chunks, threads, [&](std::size_t c) {
-    parts[c].clear();
-    parts[c].reserve(kChunk);
-    produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
+    std::vector<ScreenTriangle>& block = blocks[used + c];
+    block.clear();
+    block.reserve(kChunk);
+    produce(c * kChunk, std::min(count, (c + 1) * kChunk), block);
   });
-  std::size_t total = out.size();
-  for (std::size_t c = 0; c < chunks; ++c) total += parts[c].size();
-  out.reserve(total);
-  for (std::size_t c = 0; c < chunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
-}
-
-void sort_back_to_front(std::vector<ScreenTriangle>& tris, std::size_t from) {
-  std::stable_sort(tris.begin() + static_cast<std::ptrdiff_t>(from), tris.end(),
-                   [](const ScreenTriangle& a, const ScreenTriangle& b) {
-                     return a.z[0] + a.z[1] + a.z[2] > b.z[0] + b.z[1] + b.z[2];
-                   });
+  for (std::size_t c = 0; c < chunks; ++c) queued += blocks[used + c].size();
+  if (sort && chunks > 0) {
+    std::vector<ScreenTriangle>& all = blocks[used];
+    for (std::size_t c = 1; c < chunks; ++c)
+      all.insert(all.end(), blocks[used + c].begin(), blocks[used + c].end());
+    std::stable_sort(all.begin(), all.end(), [](const ScreenTriangle& a, const ScreenTriangle& b) {
+      return a.z[0] + a.z[1] + a.z[2] > b.z[0] + b.z[1] + b.z[2];
+    });
+    used += 1;
+  } else {
+    used += chunks;
+  }
 }
 
 }  // namespace
@@ -650,7 +658,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
   const auto draw_id = static_cast<std::uint32_t>(impl_->draws.size());
   impl_->draws.push_back(make_state(view, lighting, options));
   const int w = options_.width, h = options_.height;
-  const std::size_t first = impl_->triangles.size();
   const int threads = worker_count(options_.threads);
   // Every vertex to clip space and, where it is inside the frustum, to the screen, once.
   auto& screen_of = impl_->screen;
@@ -666,7 +673,8 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
       if (!codes[i]) screen_of[i] = to_screen(cv, w, h);
     }
   });
-  run_chunks(mesh.triangles.size(), threads, impl_->triangles, impl_->parts,
+  run_chunks(mesh.triangles.size(), threads, options.blend == Blend::Over, impl_->blocks,
+             impl_->used, impl_->count,
              [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
                std::vector<ClipVertex> poly, scratch;
                std::vector<ScreenVertex> screen;
@@ -710,7 +718,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  }
                }
              });
-  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
 }
 
 void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& view,
@@ -720,9 +727,9 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   impl_->draws.back().options.shading = Shading::Unlit;
   const int w = options_.width, h = options_.height;
   const float half = 0.5f * std::max(options.line_width, 0.0f);
-  const std::size_t first = impl_->triangles.size();
   run_chunks(
-      lines.size(), worker_count(options_.threads), impl_->triangles, impl_->parts,
+      lines.size(), worker_count(options_.threads), options.blend == Blend::Over, impl_->blocks,
+      impl_->used, impl_->count,
       [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
         for (std::size_t i = begin; i < end; ++i) {
           const LineSegment& s = lines[i];
@@ -767,7 +774,6 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
           if (setup(q0, q2, q3, false, w, h, draw_id, st)) out.push_back(st);
         }
       });
-  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
 }
 
 Image Rasterizer::render() const {
@@ -782,7 +788,8 @@ namespace {
 // sink: sink.fill(x, y, n) for n background pixels, sink.write(x, y, src, n) for n resolved
 // pixels (linear, premultiplied), sink.fence() when a worker is done with a tile.
 template <class Sink>
-void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle>& tris,
+void render_tiles(const RasterOptions& options,
+                  const std::vector<std::vector<ScreenTriangle>>& blocks, std::size_t used,
                   const std::vector<DrawState>& draws, Sink& sink) {
   const int width = options.width, height = options.height;
   const int s = options.samples_per_axis, spp = s * s;
@@ -790,19 +797,20 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
 
   // Binning in submission order, counted first: bin b is items[start[b] .. start[b + 1]).
   const std::size_t tile_count = static_cast<std::size_t>(tiles_x) * tiles_y;
-  std::vector<std::uint32_t> start(tile_count + 1, 0);
-  for (const ScreenTriangle& t : tris)
-    for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
-      for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
-        ++start[static_cast<std::size_t>(ty) * tiles_x + tx + 1];
+  std::vector<std::size_t> start(tile_count + 1, 0);
+  for (std::size_t b = 0; b < used; ++b)
+    for (const ScreenTriangle& t : blocks[b])
+      for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
+        for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
+          ++start[static_cast<std::size_t>(ty) * tiles_x + tx + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::uint32_t> items(start.back()), fill(start.begin(), start.end() - 1);
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    const ScreenTriangle& t = tris[i];
-    for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
-      for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
-        items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = i;
-  }
+  std::vector<const ScreenTriangle*> items(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t b = 0; b < used; ++b)
+    for (const ScreenTriangle& t : blocks[b])
+      for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
+        for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
+          items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = &t;
 
   // Sample offsets inside a pixel (fixed point), an s x s ordered grid.
   std::vector<std::int64_t> off_x(spp), off_y(spp);
@@ -820,8 +828,8 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
     const int ty0 = static_cast<int>(tile / tiles_x) * kTile;
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
-    const std::span<const std::uint32_t> bin(items.data() + start[tile],
-                                             start[tile + 1] - start[tile]);
+    const std::span<const ScreenTriangle* const> bin(items.data() + start[tile],
+                                                     start[tile + 1] - start[tile]);
     if (bin.empty()) {
       for (int y = 0; y < th; ++y) sink.fill(tx0, ty0 + y, tw);
       sink.fence();
@@ -861,7 +869,7 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
     };
     // Shades n waiting samples of the triangle at bin position id.
     auto shade_batch = [&](std::uint32_t id, const Entry* batch, std::uint32_t n) {
-      const ScreenTriangle& t = tris[bin[id]];
+      const ScreenTriangle& t = *bin[id];
       const DrawState& d = draws[t.draw];
       const Edges& e = edges[id];
 #ifdef CW4D_RASTER_SIMD
@@ -893,7 +901,7 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
       // One sample per pixel: a run's groups of eight neighbours are shaded at once, straight
       // into the row (the same lanes as a batch of eight, without the queue).
       if (spp == 1 && simd && run >= kBatch) {
-        const ScreenTriangle& t = tris[bin[id]];
+        const ScreenTriangle& t = *bin[id];
         const DrawState& d = draws[t.draw];
         if (simd_shadable(d, t)) {
           double X[kBatch], Y[kBatch];
@@ -977,12 +985,12 @@ void render_tiles(const RasterOptions& options, const std::vector<ScreenTriangle
         // The bin jumps through the triangle array: load what coverage reads (the fields
         // before inv_w, over two or three cache lines) before it is needed.
         constexpr std::size_t kCoverageBytes = offsetof(ScreenTriangle, inv_w);
-        const char* ahead = reinterpret_cast<const char*>(&tris[bin[j + kAhead]]);
+        const char* ahead = reinterpret_cast<const char*>(bin[j + kAhead]);
         __builtin_prefetch(ahead);
         __builtin_prefetch(ahead + kCoverageBytes / 2);
         __builtin_prefetch(ahead + kCoverageBytes - 1);
       }
-      const ScreenTriangle& t = tris[bin[j]];
+      const ScreenTriangle& t = *bin[j];
       const DrawState& d = draws[t.draw];
       const bool test = d.options.depth_test, write = d.options.depth_write;
       const bool over = d.options.blend == Blend::Over;
@@ -1285,7 +1293,7 @@ void Rasterizer::render(Image& out) const {
   out.height = options_.height;
   out.pixels.resize(static_cast<std::size_t>(out.width) * out.height);
   FloatSink sink{out, options_.background};
-  render_tiles(options_, impl_->triangles, impl_->draws, sink);
+  render_tiles(options_, impl_->blocks, impl_->used, impl_->draws, sink);
 }
 
 void Rasterizer::render(Image8& out, glm::vec3 background, bool alpha) const {
@@ -1311,7 +1319,7 @@ void Rasterizer::render(Image8& out, glm::vec3 background, bool alpha) const {
     sink.bg_bits[k] = v8i{bits, bits, bits, bits, bits, bits, bits, bits};
   }
 #endif
-  render_tiles(options_, impl_->triangles, impl_->draws, sink);
+  render_tiles(options_, impl_->blocks, impl_->used, impl_->draws, sink);
 }
 
 }  // namespace cw4d::render
