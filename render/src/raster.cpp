@@ -797,20 +797,34 @@ void render_tiles(const RasterOptions& options,
 
   // Binning in submission order, counted first: bin b is items[start[b] .. start[b + 1]).
   const std::size_t tile_count = static_cast<std::size_t>(tiles_x) * tiles_y;
+  // The triangles' tile ranges are noted in the counting pass, so that the triangle array
+  // is read once.
+  struct Span {
+    const ScreenTriangle* t;
+    std::uint16_t tx0, tx1, ty0, ty1;
+  };
+  std::vector<Span> spans;
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < used; ++b) total += blocks[b].size();
+  spans.reserve(total);
   std::vector<std::size_t> start(tile_count + 1, 0);
   for (std::size_t b = 0; b < used; ++b)
-    for (const ScreenTriangle& t : blocks[b])
-      for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
-        for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
+    for (const ScreenTriangle& t : blocks[b]) {
+      const Span sp{
+          &t, static_cast<std::uint16_t>(t.x0 / kTile), static_cast<std::uint16_t>(t.x1 / kTile),
+          static_cast<std::uint16_t>(t.y0 / kTile), static_cast<std::uint16_t>(t.y1 / kTile)};
+      spans.push_back(sp);
+      for (int ty = sp.ty0; ty <= sp.ty1; ++ty)
+        for (int tx = sp.tx0; tx <= sp.tx1; ++tx)
           ++start[static_cast<std::size_t>(ty) * tiles_x + tx + 1];
+    }
   std::partial_sum(start.begin(), start.end(), start.begin());
   std::vector<const ScreenTriangle*> items(start.back());
   std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-  for (std::size_t b = 0; b < used; ++b)
-    for (const ScreenTriangle& t : blocks[b])
-      for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
-        for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
-          items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = &t;
+  for (const Span& sp : spans)
+    for (int ty = sp.ty0; ty <= sp.ty1; ++ty)
+      for (int tx = sp.tx0; tx <= sp.tx1; ++tx)
+        items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = sp.t;
 
   // Sample offsets inside a pixel (fixed point), an s x s ordered grid.
   std::vector<std::int64_t> off_x(spp), off_y(spp);
