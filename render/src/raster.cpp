@@ -621,8 +621,9 @@ void run_parallel(std::size_t n, int threads, F&& f) {
 // Geometry stage over chunks: each chunk's output is a block of its own, appended in order
 // after the queued ones, so the result is independent of the number of workers. With sort
 // (blended draws) the draw's blocks are joined into one and sorted back to front, stably.
+// per_item: the triangles one input item usually gives (the block's first reservation).
 template <class Produce>
-void run_chunks(std::size_t count, int threads, bool sort,
+void run_chunks(std::size_t count, std::size_t per_item, int threads, bool sort,
                 std::vector<std::vector<ScreenTriangle>>& blocks, std::size_t& used,
                 std::size_t& queued, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
@@ -630,7 +631,7 @@ void run_chunks(std::size_t count, int threads, bool sort,
   run_parallel(chunks, threads, [&](std::size_t c) {
     std::vector<ScreenTriangle>& block = blocks[used + c];
     block.clear();
-    block.reserve(kChunk);
+    block.reserve(per_item * (std::min(count, (c + 1) * kChunk) - c * kChunk));
     produce(c * kChunk, std::min(count, (c + 1) * kChunk), block);
   });
   for (std::size_t c = 0; c < chunks; ++c) queued += blocks[used + c].size();
@@ -673,7 +674,7 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
       if (!codes[i]) screen_of[i] = to_screen(cv, w, h);
     }
   });
-  run_chunks(mesh.triangles.size(), threads, options.blend == Blend::Over, impl_->blocks,
+  run_chunks(mesh.triangles.size(), 1, threads, options.blend == Blend::Over, impl_->blocks,
              impl_->used, impl_->count,
              [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
                std::vector<ClipVertex> poly, scratch;
@@ -728,7 +729,7 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   const int w = options_.width, h = options_.height;
   const float half = 0.5f * std::max(options.line_width, 0.0f);
   run_chunks(
-      lines.size(), worker_count(options_.threads), options.blend == Blend::Over, impl_->blocks,
+      lines.size(), 2, worker_count(options_.threads), options.blend == Blend::Over, impl_->blocks,
       impl_->used, impl_->count,
       [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
         for (std::size_t i = begin; i < end; ++i) {
