@@ -9,7 +9,9 @@
 // cw4d runs with 1 sample per pixel (as llvmpipe, which has no MSAA through OSMesa) and with
 // 2x2 samples; threads = all cores unless the name says /threads:1. One Rasterizer and one
 // Image serve every frame (as llvmpipe keeps its context and buffer), except in /fresh, which
-// allocates both anew per frame.
+// allocates both anew per frame. /srgb8 resolves straight to 8-bit sRGB RGBA (straight alpha)
+// like the PNG writer's encoding, as llvmpipe writes 8-bit RGBA (it without the sRGB transfer
+// function); the other rows write the linear float frame.
 //
 // In console mode the program ends with wall-time ratios cw4d / llvmpipe from the same run.
 //
@@ -77,7 +79,9 @@ const std::vector<Case>& cases() {
 
 // fresh: a new Rasterizer and a new Image every frame (the storage allocated and faulted in
 // anew each time) instead of one of each reused through clear() and render(Image&).
-void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads, bool fresh) {
+// srgb8: render(Image8&) (8-bit sRGB RGBA) instead of the float frame.
+void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads, bool fresh,
+             bool srgb8) {
   using namespace cw4d::render;
   RasterOptions ro;
   ro.width = kWidth;
@@ -89,8 +93,14 @@ void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads, b
   // llvmpipe keeps its context and the OSMesa buffer.
   Rasterizer r(ro);
   Image img;
+  Image8 img8;
   for (auto _ : state) {
-    if (fresh) {
+    if (srgb8) {
+      r.clear();
+      r.draw(c->mesh, c->camera.view(r.aspect()), lighting);
+      r.render(img8, glm::vec3(0.0f), true);
+      benchmark::DoNotOptimize(img8.bytes.data());
+    } else if (fresh) {
       Rasterizer f(ro);
       f.draw(c->mesh, c->camera.view(f.aspect()), lighting);
       img = f.render();
@@ -102,7 +112,13 @@ void bm_cw4d(benchmark::State& state, const Case* c, int samples, int threads, b
     benchmark::DoNotOptimize(img.pixels.data());
   }
   // Counted after the timed loop, as llvmpipe's `drawn` is.
-  state.counters["drawn"] = img.coverage() / (kWidth * kHeight);
+  if (srgb8) {
+    std::size_t drawn = 0;
+    for (std::size_t i = 3; i < img8.bytes.size(); i += 4) drawn += img8.bytes[i] != 0;
+    state.counters["drawn"] = static_cast<double>(drawn) / (kWidth * kHeight);
+  } else {
+    state.counters["drawn"] = img.coverage() / (kWidth * kHeight);
+  }
   state.counters["triangles"] = static_cast<double>(c->mesh.triangles.size());
 }
 
@@ -198,14 +214,16 @@ void register_cases() {
     const struct {
       const char* variant;
       int samples, threads;
-      bool fresh;
-    } variants[] = {{"samples:1", 1, 0, false},
-                    {"samples:1/threads:1", 1, 1, false},
-                    {"samples:1/fresh", 1, 0, true},
-                    {"samples:2x2", 2, 0, false}};
+      bool fresh, srgb8;
+    } variants[] = {{"samples:1", 1, 0, false, false},
+                    {"samples:1/threads:1", 1, 1, false, false},
+                    {"samples:1/fresh", 1, 0, true, false},
+                    {"samples:1/srgb8", 1, 0, false, true},
+                    {"samples:1/srgb8/threads:1", 1, 1, false, true},
+                    {"samples:2x2", 2, 0, false, false}};
     for (const auto& v : variants)
       benchmark::RegisterBenchmark(("cw4d/" + c.name + "/" + v.variant).c_str(), bm_cw4d, p,
-                                   v.samples, v.threads, v.fresh)
+                                   v.samples, v.threads, v.fresh, v.srgb8)
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
           ->MinTime(1.0);
@@ -240,12 +258,12 @@ class RatioReporter : public benchmark::ConsoleReporter {
     for (const Case& c : cases()) {
       const auto gl = times_.find("llvmpipe/" + c.name + "/min_time:1.000/real_time");
       if (gl == times_.end()) continue;
-      for (const char* variant :
-           {"samples:1", "samples:1/threads:1", "samples:1/fresh", "samples:2x2"}) {
+      for (const char* variant : {"samples:1", "samples:1/threads:1", "samples:1/fresh",
+                                  "samples:1/srgb8", "samples:1/srgb8/threads:1", "samples:2x2"}) {
         const auto ours =
             times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
         if (ours == times_.end()) continue;
-        std::printf("  %-18s %-20s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
+        std::printf("  %-18s %-26s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
       }
     }
   }

@@ -2,7 +2,8 @@
 // areas against the analytic area of a cube and Cauchy's projection formula, depth order of
 // overlapping objects, the top-left fill rule (no sample drawn twice, none missed), near-plane
 // clipping, occlusion culling of 4D edges against analytic shadows and a ray-casting oracle,
-// stereographic arcs against circles, and identical pictures for every thread count.
+// stereographic arcs against circles, identical pictures for every thread count, and the
+// 8-bit sRGB output against the float frame encoded with the transfer function.
 #include <catch2/catch.hpp>
 
 #include <Eigen/Geometry>
@@ -11,7 +12,10 @@
 #include <glm/matrix.hpp>
 #include <glm/trigonometric.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -688,4 +692,147 @@ TEST_CASE("Blinn-Phong at every pixel matches the formula evaluated in double", 
     }
   CHECK(checked == 4 * 48 * 40);
   CHECK(highlighted > 100);  // the highlights are in the picture, not only the diffuse term
+}
+
+TEST_CASE("the table sRGB encoder gives linear_to_srgb8's byte for every float", "[render]") {
+  // Oracle: linear_to_srgb8 (the transfer function's power) at every float in [0, 1] with a
+  // stride, at every float within 4096 of each analytic step (where sRGB(c) * 255 is k - 1/2,
+  // solved in double from IEC 61966-2-1) and at the special values.
+  const Srgb8Encoder& e = Srgb8Encoder::instance();
+  CHECK(e.exact);
+  CHECK(e.max_steps >= 1);
+  long mismatches = 0, tested = 0;
+  auto check_bits = [&](std::uint32_t bits) {
+    const float c = std::bit_cast<float>(bits);
+    mismatches += e(c) != linear_to_srgb8(c);
+    ++tested;
+  };
+  for (std::uint32_t bits = 0; bits <= 0x3F800000u; bits += 97) check_bits(bits);
+  for (int k = 1; k <= 255; ++k) {
+    const double s = (k - 0.5) / 255.0;
+    const double c = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+    const auto mid = std::bit_cast<std::uint32_t>(static_cast<float>(c));
+    for (std::uint32_t b = mid - 4096; b <= mid + 4096; ++b) check_bits(b);
+  }
+  CHECK(tested > 12'000'000);
+  CHECK(mismatches == 0);
+  for (const float c :
+       {0.0f, -0.0f, -1.0f, 1.0f, 1.5f, 1e-45f, 1e-38f, 0.0031308f,
+        std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+        std::numeric_limits<float>::quiet_NaN()}) {
+    CAPTURE(c);
+    CHECK(e(c) == linear_to_srgb8(c));
+  }
+}
+
+TEST_CASE("the 8-bit frame is the float frame encoded as to_srgb8, byte for byte", "[render]") {
+  // Oracle: the float picture of the same rasterizer, encoded here pixel by pixel with
+  // linear_to_srgb8 (straight alpha, or flattened on the background), for one and several
+  // samples per pixel, a partly transparent raster background, blended draws (fractional alpha)
+  // and a size that is no multiple of the tile or of eight pixels.
+  const Complex m = load_model("120-cell");
+  const Section s = section(m, Hyperplane::from(vec({1.0, 0.7, 0.4, 0.2}), 0.3));
+  TriangleMesh mesh = section_mesh(s, &m);
+  TriangleMesh glass = mesh;
+  for (auto& v : glass.vertices) {
+    v.position = 0.9f * v.position + glm::vec3(0.05f, 0.02f, 0.2f);
+    v.color.a = 0.45f;
+  }
+  SectionViewOptions so;
+  so.raster.width = 203;
+  so.raster.height = 141;
+  const Camera cam = section_camera(s, so);
+  long compared = 0, partial = 0;
+  for (const int samples : {1, 2, 3})
+    for (const bool blended : {false, true}) {
+      RasterOptions ro;
+      ro.width = 203;
+      ro.height = 141;
+      ro.samples_per_axis = samples;
+      ro.background = blended ? glm::vec4(0.1f, 0.05f, 0.2f, 0.4f) : glm::vec4(0.0f);
+      Rasterizer r(ro);
+      const View view = cam.view(r.aspect());
+      const Lighting lit = Lighting::studio(cam);
+      r.draw(mesh, view, lit);
+      if (blended) {
+        DrawOptions d;
+        d.blend = Blend::Over;
+        r.draw(glass, view, lit, d);
+      }
+      const Image img = r.render();
+      for (const bool alpha : {false, true}) {
+        const glm::vec3 bg(0.9f, 0.3f, 0.6f);
+        Image8 fast;
+        r.render(fast, bg, alpha);
+        CAPTURE(samples, blended, alpha);
+        REQUIRE(fast.width == 203);
+        REQUIRE(fast.height == 141);
+        REQUIRE(fast.channels == (alpha ? 4 : 3));
+        REQUIRE(fast.bytes.size() == img.pixels.size() * fast.channels);
+        long wrong = 0;
+        for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+          const glm::vec4 p = img.pixels[i];
+          const float a = std::clamp(p.a, 0.0f, 1.0f);
+          partial += a > 0.0f && a < 1.0f;
+          std::uint8_t expect[4];
+          if (alpha) {
+            for (int c = 0; c < 3; ++c) expect[c] = linear_to_srgb8(a > 0.0f ? p[c] / a : 0.0f);
+            expect[3] = static_cast<std::uint8_t>(std::lround(a * 255.0f));
+          } else {
+            for (int c = 0; c < 3; ++c) expect[c] = linear_to_srgb8(p[c] + (1.0f - a) * bg[c]);
+          }
+          for (int c = 0; c < fast.channels; ++c)
+            wrong += fast.bytes[i * fast.channels + c] != expect[c];
+          ++compared;
+        }
+        CHECK(wrong == 0);
+        // And to_srgb8 of the float frame says the same.
+        const Image8 slow = to_srgb8(img, bg, alpha);
+        CHECK(slow.bytes == fast.bytes);
+      }
+    }
+  CHECK(compared == 12L * 203 * 141);
+  CHECK(partial > 1000);  // fractional alpha was exercised
+}
+
+TEST_CASE("a mesh drawn in parts, or again after clear(), gives the same picture", "[render]") {
+  // Oracle: the same triangles in the same order must give the same picture however they are
+  // queued — one draw (several geometry blocks), three draws, or after clear() on a rasterizer
+  // that drew something else before.
+  const Complex m = load_model("spherinder:1,100");
+  const Section s = section(m, Hyperplane::from(vec({0.3, 0.0, 0.0, 1.0}), 0.1));
+  const TriangleMesh mesh = section_mesh(s, &m);
+  REQUIRE(mesh.triangles.size() > 4096);  // more than two geometry work items
+  SectionViewOptions so;
+  so.raster.width = 160;
+  so.raster.height = 120;
+  const Camera cam = section_camera(s, so);
+  RasterOptions ro;
+  ro.width = 160;
+  ro.height = 120;
+  ro.samples_per_axis = 2;
+  const Lighting lit = Lighting::studio(cam);
+  Rasterizer whole(ro);
+  const View view = cam.view(whole.aspect());
+  whole.draw(mesh, view, lit);
+  const Image expect = whole.render();
+  CHECK(expect.coverage() > 1000.0);
+
+  Rasterizer parts(ro);
+  TriangleMesh other = mesh;
+  for (auto& v : other.vertices) v.position *= 0.5f;
+  parts.draw(other, view, lit);  // something else first, then dropped
+  parts.clear();
+  CHECK(parts.queued_triangles() == 0);
+  const std::size_t n = mesh.triangles.size();
+  for (const auto& [from, to] :
+       {std::pair<std::size_t, std::size_t>{0, n / 3}, {n / 3, n / 3 + 7}, {n / 3 + 7, n}}) {
+    TriangleMesh part;
+    part.vertices = mesh.vertices;
+    part.triangles.assign(mesh.triangles.begin() + static_cast<std::ptrdiff_t>(from),
+                          mesh.triangles.begin() + static_cast<std::ptrdiff_t>(to));
+    parts.draw(part, view, lit);
+  }
+  CHECK(parts.queued_triangles() == whole.queued_triangles());
+  CHECK(same_pixels(parts.render(), expect));
 }

@@ -66,17 +66,18 @@ Image8 to_srgb8(const Image& image, glm::vec3 background, bool alpha) {
   out.height = image.height;
   out.channels = alpha ? 4 : 3;
   out.bytes.resize(image.pixels.size() * out.channels);
+  const Srgb8Encoder& encode = Srgb8Encoder::instance();  // linear_to_srgb8, the same bytes
   std::size_t k = 0;
   for (const auto& p : image.pixels) {
     if (alpha) {
       // Premultiplied -> straight alpha before the transfer function.
       const float a = std::clamp(p.a, 0.0f, 1.0f);
       const glm::vec3 c = a > 0.0f ? glm::vec3(p) / a : glm::vec3(0.0f);
-      for (int i = 0; i < 3; ++i) out.bytes[k++] = linear_to_srgb8(c[i]);
+      for (int i = 0; i < 3; ++i) out.bytes[k++] = encode(c[i]);
       out.bytes[k++] = static_cast<std::uint8_t>(std::lround(a * 255.0f));
     } else {
       const glm::vec3 c = glm::vec3(p) + (1.0f - std::clamp(p.a, 0.0f, 1.0f)) * background;
-      for (int i = 0; i < 3; ++i) out.bytes[k++] = linear_to_srgb8(c[i]);
+      for (int i = 0; i < 3; ++i) out.bytes[k++] = encode(c[i]);
     }
   }
   return out;

@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <numeric>
+#include <span>
 #include <thread>
 
 #if defined(__GNUC__) && defined(__x86_64__)
@@ -19,6 +22,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/index.hpp"
+#include "cw4d/render/color.hpp"
 
 namespace cw4d::render {
 
@@ -174,13 +178,22 @@ ScreenVertex to_screen(const ClipVertex& v, int width, int height) {
   return s;
 }
 
+// std::llround (halfway cases away from zero) without the library call: x minus its whole
+// part is exact below 2^52.
+std::int64_t round_half_away(double x) {
+  if (!(std::abs(x) < 4503599627370496.0)) return std::llround(x);
+  const auto whole = static_cast<std::int64_t>(x);
+  const double frac = x - static_cast<double>(whole);
+  return whole + (frac >= 0.5 ? 1 : 0) - (frac <= -0.5 ? 1 : 0);
+}
+
 // Builds the screen triangle (a, b, c); false when it has no area or is culled.
 bool setup(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, bool cull_back,
            int width, int height, std::uint32_t draw, ScreenTriangle& t) {
   const ScreenVertex* v[3] = {&a, &b, &c};
   for (int i = 0; i < 3; ++i) {
-    t.x[i] = std::llround(static_cast<double>(v[i]->x) * kSubpixel);
-    t.y[i] = std::llround(static_cast<double>(v[i]->y) * kSubpixel);
+    t.x[i] = round_half_away(static_cast<double>(v[i]->x) * kSubpixel);
+    t.y[i] = round_half_away(static_cast<double>(v[i]->y) * kSubpixel);
   }
   const std::int64_t cross =
       (t.x[1] - t.x[0]) * (t.y[2] - t.y[0]) - (t.y[1] - t.y[0]) * (t.x[2] - t.x[0]);
@@ -556,9 +569,12 @@ void fill_pixels(glm::vec4* dst, const glm::vec4& value, int n) {
 
 struct Rasterizer::Impl {
   std::vector<DrawState> draws;
-  std::vector<ScreenTriangle> triangles;
-  // Scratch of draw(), kept so that a rasterizer drawing frame after frame reuses it.
-  std::vector<std::vector<ScreenTriangle>> parts;
+  // The queued triangles in submission order, blocks[0 .. used) one after the other (a block
+  // per geometry work item, so its output is never copied); clear() keeps their storage, so
+  // that a rasterizer drawing frame after frame reuses it.
+  std::vector<std::vector<ScreenTriangle>> blocks;
+  std::size_t used = 0;
+  std::size_t count = 0;             // triangles in blocks[0 .. used)
   std::vector<ScreenVertex> screen;  // per mesh vertex, when inside the frustum
   std::vector<unsigned> codes;       // per mesh vertex: outcode
 };
@@ -580,12 +596,13 @@ Rasterizer::Rasterizer(Rasterizer&&) noexcept = default;
 Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
 
 std::size_t Rasterizer::queued_triangles() const {
-  return impl_->triangles.size();
+  return impl_->count;
 }
 
 void Rasterizer::clear() {
   impl_->draws.clear();
-  impl_->triangles.clear();
+  impl_->used = 0;
+  impl_->count = 0;
 }
 
 namespace {
@@ -601,29 +618,34 @@ void run_parallel(std::size_t n, int threads, F&& f) {
   cw4d::parallel_for(n, static_cast<unsigned>(std::max(1, threads)), std::forward<F>(f));
 }
 
-// Geometry stage over chunks: each chunk's output is kept apart and concatenated in order, so
-// the result is independent of the number of workers.
+// Geometry stage over chunks: each chunk's output is a block of its own, appended in order
+// after the queued ones, so the result is independent of the number of workers. With sort
+// (blended draws) the draw's blocks are joined into one and sorted back to front, stably.
+// per_item: the triangles one input item usually gives (the block's first reservation).
 template <class Produce>
-void run_chunks(std::size_t count, int threads, std::vector<ScreenTriangle>& out,
-                std::vector<std::vector<ScreenTriangle>>& parts, Produce&& produce) {
+void run_chunks(std::size_t count, std::size_t per_item, int threads, bool sort,
+                std::vector<std::vector<ScreenTriangle>>& blocks, std::size_t& used,
+                std::size_t& queued, Produce&& produce) {
   const std::size_t chunks = (count + kChunk - 1) / kChunk;
-  if (parts.size() < chunks) parts.resize(chunks);
+  if (blocks.size() < used + chunks) blocks.resize(used + chunks);
   run_parallel(chunks, threads, [&](std::size_t c) {
-    parts[c].clear();
-    parts[c].reserve(kChunk);
-    produce(c * kChunk, std::min(count, (c + 1) * kChunk), parts[c]);
+    std::vector<ScreenTriangle>& block = blocks[used + c];
+    block.clear();
+    block.reserve(per_item * (std::min(count, (c + 1) * kChunk) - c * kChunk));
+    produce(c * kChunk, std::min(count, (c + 1) * kChunk), block);
   });
-  std::size_t total = out.size();
-  for (std::size_t c = 0; c < chunks; ++c) total += parts[c].size();
-  out.reserve(total);
-  for (std::size_t c = 0; c < chunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
-}
-
-void sort_back_to_front(std::vector<ScreenTriangle>& tris, std::size_t from) {
-  std::stable_sort(tris.begin() + static_cast<std::ptrdiff_t>(from), tris.end(),
-                   [](const ScreenTriangle& a, const ScreenTriangle& b) {
-                     return a.z[0] + a.z[1] + a.z[2] > b.z[0] + b.z[1] + b.z[2];
-                   });
+  for (std::size_t c = 0; c < chunks; ++c) queued += blocks[used + c].size();
+  if (sort && chunks > 0) {
+    std::vector<ScreenTriangle>& all = blocks[used];
+    for (std::size_t c = 1; c < chunks; ++c)
+      all.insert(all.end(), blocks[used + c].begin(), blocks[used + c].end());
+    std::stable_sort(all.begin(), all.end(), [](const ScreenTriangle& a, const ScreenTriangle& b) {
+      return a.z[0] + a.z[1] + a.z[2] > b.z[0] + b.z[1] + b.z[2];
+    });
+    used += 1;
+  } else {
+    used += chunks;
+  }
 }
 
 }  // namespace
@@ -637,7 +659,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
   const auto draw_id = static_cast<std::uint32_t>(impl_->draws.size());
   impl_->draws.push_back(make_state(view, lighting, options));
   const int w = options_.width, h = options_.height;
-  const std::size_t first = impl_->triangles.size();
   const int threads = worker_count(options_.threads);
   // Every vertex to clip space and, where it is inside the frustum, to the screen, once.
   auto& screen_of = impl_->screen;
@@ -653,7 +674,8 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
       if (!codes[i]) screen_of[i] = to_screen(cv, w, h);
     }
   });
-  run_chunks(mesh.triangles.size(), threads, impl_->triangles, impl_->parts,
+  run_chunks(mesh.triangles.size(), 1, threads, options.blend == Blend::Over, impl_->blocks,
+             impl_->used, impl_->count,
              [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
                std::vector<ClipVertex> poly, scratch;
                std::vector<ScreenVertex> screen;
@@ -697,7 +719,6 @@ void Rasterizer::draw(const TriangleMesh& mesh, const View& view, const Lighting
                  }
                }
              });
-  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
 }
 
 void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& view,
@@ -707,9 +728,9 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
   impl_->draws.back().options.shading = Shading::Unlit;
   const int w = options_.width, h = options_.height;
   const float half = 0.5f * std::max(options.line_width, 0.0f);
-  const std::size_t first = impl_->triangles.size();
   run_chunks(
-      lines.size(), worker_count(options_.threads), impl_->triangles, impl_->parts,
+      lines.size(), 2, worker_count(options_.threads), options.blend == Blend::Over, impl_->blocks,
+      impl_->used, impl_->count,
       [&](std::size_t begin, std::size_t end, std::vector<ScreenTriangle>& out) {
         for (std::size_t i = begin; i < end; ++i) {
           const LineSegment& s = lines[i];
@@ -754,7 +775,6 @@ void Rasterizer::draw_lines(const std::vector<LineSegment>& lines, const View& v
           if (setup(q0, q2, q3, false, w, h, draw_id, st)) out.push_back(st);
         }
       });
-  if (options.blend == Blend::Over) sort_back_to_front(impl_->triangles, first);
 }
 
 Image Rasterizer::render() const {
@@ -763,21 +783,49 @@ Image Rasterizer::render() const {
   return out;
 }
 
-void Rasterizer::render(Image& out) const {
-  const int width = options_.width, height = options_.height;
-  const int s = options_.samples_per_axis, spp = s * s;
-  const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
-  const auto& tris = impl_->triangles;
-  const auto& draws = impl_->draws;
+namespace {
 
-  // Binning in submission order.
-  std::vector<std::vector<std::uint32_t>> bins(static_cast<std::size_t>(tiles_x) * tiles_y);
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    const ScreenTriangle& t = tris[i];
-    for (int ty = t.y0 / kTile; ty <= t.y1 / kTile; ++ty)
-      for (int tx = t.x0 / kTile; tx <= t.x1 / kTile; ++tx)
-        bins[static_cast<std::size_t>(ty) * tiles_x + tx].push_back(i);
-  }
+// Rasterizes every queued triangle tile by tile and hands each tile's resolved rows to the
+// sink: sink.fill(x, y, n) for n background pixels, sink.write(x, y, src, n) for n resolved
+// pixels (linear, premultiplied), sink.fence() when a worker is done with a tile.
+template <class Sink>
+void render_tiles(const RasterOptions& options,
+                  const std::vector<std::vector<ScreenTriangle>>& blocks, std::size_t used,
+                  const std::vector<DrawState>& draws, Sink& sink) {
+  const int width = options.width, height = options.height;
+  const int s = options.samples_per_axis, spp = s * s;
+  const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+
+  // Binning in submission order, counted first: bin b is items[start[b] .. start[b + 1]).
+  const std::size_t tile_count = static_cast<std::size_t>(tiles_x) * tiles_y;
+  // The triangles' tile ranges are noted in the counting pass, so that the triangle array
+  // is read once.
+  struct Span {
+    const ScreenTriangle* t;
+    std::uint16_t tx0, tx1, ty0, ty1;
+  };
+  std::vector<Span> spans;
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < used; ++b) total += blocks[b].size();
+  spans.reserve(total);
+  std::vector<std::size_t> start(tile_count + 1, 0);
+  for (std::size_t b = 0; b < used; ++b)
+    for (const ScreenTriangle& t : blocks[b]) {
+      const Span sp{
+          &t, static_cast<std::uint16_t>(t.x0 / kTile), static_cast<std::uint16_t>(t.x1 / kTile),
+          static_cast<std::uint16_t>(t.y0 / kTile), static_cast<std::uint16_t>(t.y1 / kTile)};
+      spans.push_back(sp);
+      for (int ty = sp.ty0; ty <= sp.ty1; ++ty)
+        for (int tx = sp.tx0; tx <= sp.tx1; ++tx)
+          ++start[static_cast<std::size_t>(ty) * tiles_x + tx + 1];
+    }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<const ScreenTriangle*> items(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (const Span& sp : spans)
+    for (int ty = sp.ty0; ty <= sp.ty1; ++ty)
+      for (int tx = sp.tx0; tx <= sp.tx1; ++tx)
+        items[fill[static_cast<std::size_t>(ty) * tiles_x + tx]++] = sp.t;
 
   // Sample offsets inside a pixel (fixed point), an s x s ordered grid.
   std::vector<std::int64_t> off_x(spp), off_y(spp);
@@ -790,18 +838,16 @@ void Rasterizer::render(Image& out) const {
   const bool simd = simd_available();
 #endif
 
-  out.width = width;
-  out.height = height;
-  out.pixels.resize(static_cast<std::size_t>(width) * height);
-  const glm::vec4 background = options_.background;
-  run_parallel(bins.size(), worker_count(options_.threads), [&](std::size_t tile) {
+  const glm::vec4 background = options.background;
+  run_parallel(tile_count, worker_count(options.threads), [&](std::size_t tile) {
     const int tx0 = static_cast<int>(tile % tiles_x) * kTile;
     const int ty0 = static_cast<int>(tile / tiles_x) * kTile;
     const int tw = std::min(kTile, width - tx0), th = std::min(kTile, height - ty0);
-    const auto& bin = bins[tile];
+    const std::span<const ScreenTriangle* const> bin(items.data() + start[tile],
+                                                     start[tile + 1] - start[tile]);
     if (bin.empty()) {
-      for (int y = 0; y < th; ++y) fill_pixels(&out.at(tx0, ty0 + y), background, tw);
-      store_fence();
+      for (int y = 0; y < th; ++y) sink.fill(tx0, ty0 + y, tw);
+      sink.fence();
       return;
     }
     struct Entry {
@@ -838,7 +884,7 @@ void Rasterizer::render(Image& out) const {
     };
     // Shades n waiting samples of the triangle at bin position id.
     auto shade_batch = [&](std::uint32_t id, const Entry* batch, std::uint32_t n) {
-      const ScreenTriangle& t = tris[bin[id]];
+      const ScreenTriangle& t = *bin[id];
       const DrawState& d = draws[t.draw];
       const Edges& e = edges[id];
 #ifdef CW4D_RASTER_SIMD
@@ -866,6 +912,26 @@ void Rasterizer::render(Image& out) const {
     };
     // Queues samples of triangle id; every full batch is shaded at once.
     auto enqueue = [&](std::uint32_t id, Entry en, std::uint32_t run) {
+#ifdef CW4D_RASTER_SIMD
+      // One sample per pixel: a run's groups of eight neighbours are shaded at once, straight
+      // into the row (the same lanes as a batch of eight, without the queue).
+      if (spp == 1 && simd && run >= kBatch) {
+        const ScreenTriangle& t = *bin[id];
+        const DrawState& d = draws[t.draw];
+        if (simd_shadable(d, t)) {
+          double X[kBatch], Y[kBatch];
+          const std::int64_t y =
+              static_cast<std::int64_t>(ty0 + en.pixel / kTile) * kSubpixel + off_y[0];
+          std::fill(Y, Y + kBatch, static_cast<double>(y));
+          for (; run >= kBatch; run -= kBatch, en.pixel += kBatch) {
+            for (std::uint32_t i = 0; i < kBatch; ++i)
+              X[i] = static_cast<double>(
+                  static_cast<std::int64_t>(tx0 + en.pixel % kTile + i) * kSubpixel + off_x[0]);
+            shade8(d, t, edges[id], X, Y, &color[en.pixel]);
+          }
+        }
+      }
+#endif
       Entry* batch = &waiting[static_cast<std::size_t>(id) * kBatch];
       std::uint32_t n = waiting_count[id];
       for (std::uint32_t r = 0; r < run; ++r, ++en.pixel) {
@@ -928,8 +994,18 @@ void Rasterizer::render(Image& out) const {
 
     std::vector<std::int64_t> edge_sample(static_cast<std::size_t>(3) * spp);
     std::vector<double> z_sample(spp);
+    constexpr std::uint32_t kAhead = 4;  // triangles whose coverage data is fetched ahead
     for (std::uint32_t j = 0; j < bin.size(); ++j) {
-      const ScreenTriangle& t = tris[bin[j]];
+      if (j + kAhead < bin.size()) {
+        // The bin jumps through the triangle array: load what coverage reads (the fields
+        // before inv_w, over two or three cache lines) before it is needed.
+        constexpr std::size_t kCoverageBytes = offsetof(ScreenTriangle, inv_w);
+        const char* ahead = reinterpret_cast<const char*>(bin[j + kAhead]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + kCoverageBytes / 2);
+        __builtin_prefetch(ahead + kCoverageBytes - 1);
+      }
+      const ScreenTriangle& t = *bin[j];
       const DrawState& d = draws[t.draw];
       const bool test = d.options.depth_test, write = d.options.depth_write;
       const bool over = d.options.blend == Blend::Over;
@@ -1064,19 +1140,201 @@ void Rasterizer::render(Image& out) const {
     flush();
     if (spp == 1) {
       for (int y = 0; y < th; ++y)
-        write_pixels(&out.at(tx0, ty0 + y), &color[static_cast<std::size_t>(y) * kTile], tw);
-      store_fence();
+        sink.write(tx0, ty0 + y, &color[static_cast<std::size_t>(y) * kTile], tw);
+      sink.fence();
       return;
     }
     const float inv_spp = 1.0f / static_cast<float>(spp);
-    for (int y = 0; y < th; ++y)
+    glm::vec4 resolved[kTile];
+    for (int y = 0; y < th; ++y) {
       for (int x = 0; x < tw; ++x) {
         const std::size_t base = (static_cast<std::size_t>(y) * kTile + x) * spp;
         glm::vec4 sum(0.0f);
         for (int q = 0; q < spp; ++q) sum += color[base + q];
-        out.at(tx0 + x, ty0 + y) = sum * inv_spp;
+        resolved[x] = sum * inv_spp;
       }
+      sink.write(tx0, ty0 + y, resolved, tw);
+    }
+    sink.fence();
   });
+}
+
+struct FloatSink {
+  Image& out;
+  glm::vec4 background;
+  void fill(int x, int y, int n) { fill_pixels(&out.at(x, y), background, n); }
+  void write(int x, int y, const glm::vec4* src, int n) { write_pixels(&out.at(x, y), src, n); }
+  void fence() { store_fence(); }
+};
+
+// One pixel as to_srgb8 encodes it (the same operations), `encode` standing for
+// linear_to_srgb8.
+void encode_pixel(const Srgb8Encoder& encode, const glm::vec4& p, const glm::vec3& background,
+                  bool alpha, std::uint8_t* dst) {
+  if (alpha) {
+    const float a = std::clamp(p.a, 0.0f, 1.0f);
+    const glm::vec3 c = a > 0.0f ? glm::vec3(p) / a : glm::vec3(0.0f);
+    for (int i = 0; i < 3; ++i) dst[i] = encode(c[i]);
+    dst[3] = static_cast<std::uint8_t>(std::lround(a * 255.0f));
+  } else {
+    const glm::vec3 c = glm::vec3(p) + (1.0f - std::clamp(p.a, 0.0f, 1.0f)) * background;
+    for (int i = 0; i < 3; ++i) dst[i] = encode(c[i]);
+  }
+}
+
+#ifdef CW4D_RASTER_SIMD
+// The byte of each lane as Srgb8Encoder gives it (c not NaN): the bucket's first byte by a
+// gather, then up to max_steps comparisons with the next threshold.
+CW4D_AVX2 inline __m256i encode8(const Srgb8Encoder& e, v8f c) {
+  const v8f zero = splat(0.0f), one = splat(1.0f);
+  const v8f clamped = pick(c > zero, pick(c < one, c, one), zero);
+  const __m256i bits = _mm256_castps_si256(reinterpret_cast<__m256>(clamped));
+  const __m256i bucket = _mm256_srli_epi32(bits, Srgb8Encoder::kShift);
+  __m256i k =
+      _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(e.start), bucket, 1),
+                       _mm256_set1_epi32(0xFF));
+  const __m256i ones = _mm256_set1_epi32(1);
+  for (int step = 0; step < e.max_steps; ++step) {
+    const __m256i next = _mm256_i32gather_epi32(reinterpret_cast<const int*>(e.threshold),
+                                                _mm256_add_epi32(k, ones), 4);
+    // k += 1 where bits >= next (both below 2^31: a signed comparison).
+    k = _mm256_add_epi32(k, _mm256_andnot_si256(_mm256_cmpgt_epi32(next, bits), ones));
+  }
+  return k;
+}
+
+// Eight pixels as encode_pixel encodes them; false (nothing written) when a lane is NaN, which
+// the scalar code then handles.
+// bg_bits: the bits of the raster background's channels; fill8: eight pixels of it, encoded.
+CW4D_AVX2 bool encode_pixels8(const Srgb8Encoder& e, const glm::vec4* src,
+                              const glm::vec3& background, bool alpha, const v8i (&bg_bits)[4],
+                              const std::uint8_t* fill8, std::uint8_t* dst) {
+  // Transposed to one register per channel, the lanes in the pixel order 0 2 4 6 1 3 5 7
+  // (undone on the packed bytes below).
+  const float* f = &src[0].x;
+  const __m256 q0 = _mm256_loadu_ps(f), q1 = _mm256_loadu_ps(f + 8);
+  const __m256 q2 = _mm256_loadu_ps(f + 16), q3 = _mm256_loadu_ps(f + 24);
+  const __m256 lo01 = _mm256_unpacklo_ps(q0, q1), hi01 = _mm256_unpackhi_ps(q0, q1);
+  const __m256 lo23 = _mm256_unpacklo_ps(q2, q3), hi23 = _mm256_unpackhi_ps(q2, q3);
+  const v8f p[4] = {reinterpret_cast<v8f>(_mm256_shuffle_ps(lo01, lo23, 0x44)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(lo01, lo23, 0xEE)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(hi01, hi23, 0x44)),
+                    reinterpret_cast<v8f>(_mm256_shuffle_ps(hi01, hi23, 0xEE))};
+  const v8f zero = splat(0.0f), one = splat(1.0f);
+  // Eight untouched pixels (the raster background exactly): its bytes.
+  const v8i same =
+      (reinterpret_cast<v8i>(p[0]) == bg_bits[0]) & (reinterpret_cast<v8i>(p[1]) == bg_bits[1]) &
+      (reinterpret_cast<v8i>(p[2]) == bg_bits[2]) & (reinterpret_cast<v8i>(p[3]) == bg_bits[3]);
+  if (_mm256_movemask_ps(reinterpret_cast<__m256>(same)) == 0xFF) {
+    std::memcpy(dst, fill8, alpha ? 32 : 24);
+    return true;
+  }
+  const v8f a = pick(p[3] < zero, zero, pick(one < p[3], one, p[3]));  // std::clamp
+  v8f c[3];
+  if (alpha) {
+    const v8i positive = a > zero;
+    for (int k = 0; k < 3; ++k) c[k] = pick(positive, p[k] / a, zero);
+  } else {
+    for (int k = 0; k < 3; ++k) c[k] = p[k] + (one - a) * background[k];
+  }
+  const v8i nan = (a != a) | (c[0] != c[0]) | (c[1] != c[1]) | (c[2] != c[2]);
+  if (_mm256_movemask_ps(reinterpret_cast<__m256>(nan))) return false;
+  __m256i packed =
+      _mm256_or_si256(encode8(e, c[0]), _mm256_or_si256(_mm256_slli_epi32(encode8(e, c[1]), 8),
+                                                        _mm256_slli_epi32(encode8(e, c[2]), 16)));
+  const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+  if (alpha) {
+    // std::lround(a * 255) for a in [0, 1]: the whole part plus one from a fraction of 1/2 on.
+    const __m256 x = reinterpret_cast<__m256>(a * 255.0f);
+    const __m256 whole = _mm256_round_ps(x, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+    const __m256 up = _mm256_cmp_ps(_mm256_sub_ps(x, whole), _mm256_set1_ps(0.5f), _CMP_GE_OQ);
+    const __m256i bytes =
+        _mm256_cvtps_epi32(_mm256_add_ps(whole, _mm256_and_ps(up, _mm256_set1_ps(1.0f))));
+    packed = _mm256_or_si256(packed, _mm256_slli_epi32(bytes, 24));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst),
+                        _mm256_permutevar8x32_epi32(packed, order));
+    return true;
+  }
+  packed = _mm256_permutevar8x32_epi32(packed, order);
+  // RGB: the three low bytes of each pixel, 12 bytes per 128-bit half.
+  const __m256i rgb = _mm256_shuffle_epi8(
+      packed, _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4,
+                               5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1));
+  std::uint8_t bytes[32];
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(bytes), rgb);
+  std::memcpy(dst, bytes, 12);
+  std::memcpy(dst + 12, bytes + 16, 12);
+  return true;
+}
+#endif
+
+// Resolves tiles straight into 8-bit sRGB, as to_srgb8 would encode the float frame.
+struct Srgb8Sink {
+  Image8& out;
+  glm::vec3 background;  // under the picture when !alpha
+  bool alpha;
+  const Srgb8Encoder& encoder;
+  std::uint8_t fill_row[kTile * 4];  // kTile pixels of the raster background, encoded
+  bool simd;
+#ifdef CW4D_RASTER_SIMD
+  v8i bg_bits[4];  // the bits of the raster background's channels, in every lane
+#endif
+
+  void fill(int x, int y, int n) {
+    const int ch = out.channels;
+    std::memcpy(&out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch], fill_row,
+                static_cast<std::size_t>(n) * ch);
+  }
+  void write(int x, int y, const glm::vec4* src, int n) {
+    const int ch = out.channels;
+    std::uint8_t* dst = &out.bytes[(static_cast<std::size_t>(y) * out.width + x) * ch];
+    int i = 0;
+#ifdef CW4D_RASTER_SIMD
+    if (simd)
+      for (; i + 8 <= n; i += 8)
+        if (!encode_pixels8(encoder, src + i, background, alpha, bg_bits, fill_row, dst + i * ch))
+          for (int j = i; j < i + 8; ++j)
+            encode_pixel(encoder, src[j], background, alpha, dst + j * ch);
+#endif
+    for (; i < n; ++i) encode_pixel(encoder, src[i], background, alpha, dst + i * ch);
+  }
+  void fence() {}
+};
+
+}  // namespace
+
+void Rasterizer::render(Image& out) const {
+  out.width = options_.width;
+  out.height = options_.height;
+  out.pixels.resize(static_cast<std::size_t>(out.width) * out.height);
+  FloatSink sink{out, options_.background};
+  render_tiles(options_, impl_->blocks, impl_->used, impl_->draws, sink);
+}
+
+void Rasterizer::render(Image8& out, glm::vec3 background, bool alpha) const {
+  out.width = options_.width;
+  out.height = options_.height;
+  out.channels = alpha ? 4 : 3;
+  out.bytes.resize(static_cast<std::size_t>(out.width) * out.height * out.channels);
+  const Srgb8Encoder& encoder = Srgb8Encoder::instance();
+  bool simd = false;
+#ifdef CW4D_RASTER_SIMD
+  simd = simd_available() && encoder.exact;
+#endif
+#ifdef CW4D_RASTER_SIMD
+  Srgb8Sink sink{out, background, alpha, encoder, {}, simd, {}};
+#else
+  Srgb8Sink sink{out, background, alpha, encoder, {}, simd};
+#endif
+  for (int i = 0; i < kTile; ++i)
+    encode_pixel(encoder, options_.background, background, alpha, sink.fill_row + i * out.channels);
+#ifdef CW4D_RASTER_SIMD
+  for (int k = 0; k < 4; ++k) {
+    const int bits = std::bit_cast<int>(options_.background[k]);
+    sink.bg_bits[k] = v8i{bits, bits, bits, bits, bits, bits, bits, bits};
+  }
+#endif
+  render_tiles(options_, impl_->blocks, impl_->used, impl_->draws, sink);
 }
 
 }  // namespace cw4d::render

@@ -17,6 +17,29 @@ float linear_to_srgb(float c);
 /// Linear [0, 1] -> 8-bit sRGB (clamped, rounded).
 std::uint8_t linear_to_srgb8(float c);
 
+/// linear_to_srgb8 without the power, the same byte for every float: the byte steps up at 255
+/// thresholds, found by bisection on linear_to_srgb8 itself once per process; a table indexed
+/// by a float's leading bits (bits >> 15) gives the byte at the start of its bucket and at most
+/// max_steps comparisons with the next thresholds correct it. Valid because linear_to_srgb8 is
+/// monotone; that is checked when the table is built over 64 floats either side of every
+/// threshold (where an error of the power could break it), and where it fails `exact` is
+/// false and operator() calls linear_to_srgb8.
+struct Srgb8Encoder {
+  static constexpr int kShift = 15;
+  static constexpr std::uint32_t kOne = 0x3F800000u;  ///< the bits of 1.0f
+  /// threshold[k] (k = 1..255): the bits of the least float in [0, 1] whose byte is >= k;
+  /// threshold[0] = 0, threshold[256] = INT32_MAX (never reached).
+  std::uint32_t threshold[257] = {};
+  /// Per bucket b = bits >> kShift of c in [0, 1]: the byte of its first float (kOne >> kShift
+  /// + 1 entries, then 3 bytes of padding for 32-bit gathers).
+  std::uint8_t start[(kOne >> kShift) + 4] = {};
+  int max_steps = 0;  ///< thresholds strictly inside one bucket, at most
+  bool exact = false;
+
+  static const Srgb8Encoder& instance();
+  std::uint8_t operator()(float c) const;
+};
+
 /// A user color (sRGB, straight alpha) as linear RGB with the same alpha.
 glm::vec4 to_linear(const Rgba& srgb);
 glm::vec3 to_linear(const glm::vec3& srgb);

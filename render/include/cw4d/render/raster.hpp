@@ -152,6 +152,9 @@ class Rasterizer {
   /// The same into `out`, reusing its storage when it has that size already (every pixel is
   /// written), as a frame loop would.
   void render(Image& out) const;
+  /// The picture as 8-bit sRGB, byte for byte to_srgb8(render(), background, alpha), but
+  /// encoded tile by tile as the tiles are resolved (no float frame is written).
+  void render(Image8& out, glm::vec3 background = glm::vec3(1.0f), bool alpha = false) const;
 
  private:
   struct Impl;
