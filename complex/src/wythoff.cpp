@@ -488,8 +488,10 @@ std::optional<WythoffSize> estimate(const CoxeterDiagram& d, const Eigen::Matrix
     e.orientation_work = e.f[1];
   } else {
     for (unsigned T = 1; T < all; ++T)
-      if (std::popcount(T) == n - 1 && every_component_ringed(m, d.ringed, T))
-        e.orientation_work += faces(T, all) * w[T], e.containment_reads += faces(T, all) * C[T];
+      if (std::popcount(T) == n - 1 && every_component_ringed(m, d.ringed, T)) {
+        e.orientation_work += faces(T, all) * w[T];
+        e.containment_reads += faces(T, all) * C[T];
+      }
     e.orientation_work *= static_cast<double>(n) * n * n / 64.0;
   }
   return e;
