@@ -20,11 +20,15 @@
 //   cull      SceneSlicer::slice of the whole scene into the same vector of buffers
 //   touched   SceneSlicer::slice of a scene of only the objects `cull` touched (the floor:
 //             what `cull` costs beyond it is the culled objects' cost)
+//   pairs     the two calls alternating (cull then touched, touched then cull, ...), each
+//             timed: one line "ratio scene1pct/pairs <median> <lower quartile> <upper
+//             quartile>" of cull/touched over blocks of 50 pairs (no drift between the two)
 // Times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID), not wall-clock time.
 // Output: one line per case, "case <name> <nanoseconds per operation> <units>" where units is
 // what one operation processes (tetrahedra for tet), and "fallback" lines where supported.
 //
 //   bench_compare [--min-time SECONDS] [--filter SUBSTRING]
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -232,7 +236,8 @@ cw4d::Scene scattered_scene(std::size_t count, const double box[4], std::uint32_
 }
 
 void run_scene() {
-  if (!wanted("scene1pct/cull") && !wanted("scene1pct/touched")) return;
+  if (!wanted("scene1pct/cull") && !wanted("scene1pct/touched") && !wanted("scene1pct/pairs"))
+    return;
   const double box[4] = {400, 40, 40, 8};
   const cw4d::Scene scene = scattered_scene(10000, box, 20240401u);
   Eigen::VectorXd n(4);
@@ -267,6 +272,26 @@ void run_scene() {
              g_sink += out_few.size();
            }),
            static_cast<double>(touched.objects.size()));
+  if (wanted("scene1pct/pairs")) {
+    std::vector<double> ratios;
+    double cull = 0.0, floor = 0.0;
+    const double start = thread_seconds();
+    for (std::size_t k = 0; ratios.size() < 9 || thread_seconds() - start < 2 * g_min_time; ++k) {
+      const bool first = k % 2 == 0;
+      const double a = thread_seconds();
+      first ? all.slice(plane, out) : few.slice(plane, out_few);
+      const double b = thread_seconds();
+      first ? few.slice(plane, out_few) : all.slice(plane, out);
+      const double c = thread_seconds();
+      cull += first ? b - a : c - b;
+      floor += first ? c - b : b - a;
+      if (k % 50 == 49) ratios.push_back(cull / floor), cull = floor = 0.0;
+    }
+    std::sort(ratios.begin(), ratios.end());
+    const std::size_t m = ratios.size();
+    std::printf("ratio scene1pct/pairs %.4f %.4f %.4f\n", ratios[m / 2], ratios[m / 4],
+                ratios[3 * m / 4]);
+  }
 }
 
 }  // namespace

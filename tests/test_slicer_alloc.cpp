@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
+#include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "support/planes.hpp"
 
@@ -87,5 +88,44 @@ TEST_CASE("slicing allocates nothing after warm-up", "[slicer][alloc]") {
     CHECK(allocations.load() - before == 0);
     // All generic planes: nothing fell back to the general path (which allocates).
     CHECK(slicer.fast_slices() + slicer.cached_slices() == 6 * planes.size());
+  }
+}
+
+TEST_CASE("section() allocates only the arrays of the Section it returns", "[slicer][alloc]") {
+  // The oracle: the std::vector arrays reachable from the returned Section that hold anything
+  // (its boundary tables, provenance lists, vertex sources, the complex's table and color
+  // lists), plus the one-entry offsets row each new table of a Complex starts with. Eigen's
+  // matrices (positions, facet normals, the frame) allocate through their own aligned pair and
+  // are not counted here.
+  for (const char* spec : {"tesseract", "24-cell", "600-cell"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    std::mt19937 rng(4411);
+    std::vector<Hyperplane> planes;
+    for (int i = 0; i < 50; ++i)
+      planes.push_back(Hyperplane::from(test::random_unit(rng, 4),
+                                        std::uniform_real_distribution<double>(-0.5, 0.5)(rng)));
+    for (const auto& p : planes) (void)section(model, p);  // warm-up: scratch and compiled model
+    for (const auto& p : planes) {
+      const std::size_t before = allocations.load();
+      const Section s = section(model, p);
+      const std::size_t made = allocations.load() - before;
+      std::size_t arrays = 0;
+      const auto count = [&](const auto& v) { arrays += v.empty() ? 0 : 1; };
+      const Complex& c = s.complex;
+      arrays += c.top_rank() > 0 ? 1 : 0;  // the list of tables
+      for (int r = 1; r <= c.top_rank(); ++r) {
+        count(c.boundary(r).all_ids());
+        count(c.boundary(r).all_signs());
+        arrays += 1;  // offsets: the new table's one-entry row, then the filled one
+        count(c.boundary(r).offsets());
+      }
+      arrays += 1;  // the complex's list of color lists (one, empty, from its constructor)
+      count(s.vertex_source);
+      count(s.source);
+      for (const auto& v : s.source) count(v);
+      count(s.object_of_face);
+      CHECK(made <= arrays);
+    }
   }
 }

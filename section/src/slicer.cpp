@@ -680,6 +680,8 @@ Section to_section(const SliceBuffers& b) {
 }
 
 Section to_section_untested(const SliceBuffers& b) {
+  // Each array of the Section is allocated once at its final size (no default table grown,
+  // no temporary complex moved in): what the caller frees is all that is allocated.
   Section sec;
   const int dim = b.dim;
   // The slice's own basis when it was computed for this very normal (bit for bit: the same
@@ -693,19 +695,27 @@ Section to_section_untested(const SliceBuffers& b) {
   } else {
     sec.frame = HyperplaneFrame(b.plane);
   }
-  Complex c(dim);
+  if (sec.complex.ambient_dim() != dim) sec.complex = Complex(dim);
+  Complex& c = sec.complex;
   const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());
   c.set_positions(Eigen::Map<const Eigen::MatrixXd>(b.coords.data(), dim, nv));
-  for (std::size_t r = 1; r <= b.boundary.size(); ++r)
-    c.boundary_mut(static_cast<int>(r)) = b.boundary[r - 1];
+  // All tables at once (boundary_mut creates the lower ones), then each filled in place.
+  if (!b.boundary.empty()) c.boundary_mut(static_cast<int>(b.boundary.size()));
+  for (std::size_t r = 1; r <= b.boundary.size(); ++r) {
+    const Incidence& from = b.boundary[r - 1];
+    const Incidence::Storage to = c.boundary_mut(static_cast<int>(r)).storage();
+    to.offsets.assign(from.offsets().begin(), from.offsets().end());
+    to.ids.assign(from.all_ids().begin(), from.all_ids().end());
+    to.signs.assign(from.all_signs().begin(), from.all_signs().end());
+  }
   const int ofr = dim - 1;
   if (ofr >= 1 && c.count(ofr) > 0 && !b.facet_normals.empty())
     c.set_facet_normals(Eigen::Map<const Eigen::MatrixXd>(
         b.facet_normals.data(), dim, static_cast<Eigen::Index>(b.facet_normals.size()) / dim));
-  sec.vertex_source = b.vertex_source;
-  sec.source = b.source;
-  if (sec.source.empty()) sec.source.resize(1);
-  sec.complex = std::move(c);
+  sec.vertex_source.assign(b.vertex_source.begin(), b.vertex_source.end());
+  sec.source.resize(std::max<std::size_t>(b.source.size(), 1));
+  for (std::size_t r = 0; r < b.source.size(); ++r)
+    sec.source[r].assign(b.source[r].begin(), b.source[r].end());
   return sec;
 }
 

@@ -60,12 +60,19 @@ Complex make_wythoff(const CoxeterDiagram& diagram);
 Complex make_wythoff(std::string_view diagram);
 
 /// The size of make_wythoff(diagram) computed from the orders of the diagram's subgroups,
-/// without building anything: make_wythoff checks it first and refuses, in microseconds, what
-/// build_complex would refuse after building (orientation_work above max_orientation_work) or
-/// what has more than 2,000,000 vertices.
+/// without building anything: make_wythoff checks it first and refuses, in milliseconds, what
+/// build_complex would refuse after building (orientation_work above max_orientation_work),
+/// what would take longer than that budget once the containment tests are counted
+/// (orientation_work + containment_reads / 50 above max_orientation_work: one read costs about
+/// a fiftieth of a 4D simplex's orientation) or what has more than 2,000,000 vertices.
 struct WythoffSize {
   std::vector<double> f;          ///< f[k]: the number of k-faces, 0 <= k < rank
   double orientation_work = 0.0;  ///< orientation_work() of the built complex
+  /// At most how many ids and edges the containment tests of one walk over every facet read
+  /// (for_each_simplex skips the cone over a boundary element that holds the apex, found by a
+  /// search down to the faces): small against orientation_work in R^4, the larger part of
+  /// the work from R^8 on.
+  double containment_reads = 0.0;
 };
 /// Exact for non-degenerate diagrams; for a fractional diagram whose elements coincide the
 /// counts are upper bounds. nullopt when a component of the diagram has no ring, or when a
