@@ -797,8 +797,12 @@ void weld_soup(const TetSection& soup, TetSliceMesh& out) {
 const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
   if (mesh.tet_edges.size() == mesh.tets.size() && !mesh.block_first.empty() &&
       mesh.block_first.back() == mesh.tets.size() &&
-      mesh.block_vertex_first.size() == mesh.block_first.size())
+      mesh.block_vertex_first.size() == mesh.block_first.size()) {
+    // Only the sizes are checked here (the whole check costs as much as the slice); a mesh whose
+    // tets were edited in place without index_tet_edges is caught in checked builds.
+    assert(mesh.has_edge_index());
     return mesh;
+  }
   if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||
       sc.edge_mesh.block_first.empty()) {
     sc.edge_mesh.tets = mesh.tets;

@@ -114,7 +114,9 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 /// The same slice as an indexed mesh (the fast form: each crossing computed once, polygons turned
 /// by the sign table's combinatorial orientation, no per-corner copies of positions and normals),
 /// written into `out`, whose storage is reused (no allocation once it has grown). Planes through
-/// mesh vertices take the general loop above, welded.
+/// mesh vertices take the general loop above, welded. Precondition: the mesh's edge and block
+/// index describes its tets (as tetrahedralize leaves it; call index_tet_edges after editing
+/// `tets` or `tet_cell` in place, or clear `tet_edges` to have the slicer index a copy).
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSliceMesh& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
