@@ -334,15 +334,27 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
           stamp_ = 1;
         }
         const std::uint32_t st = stamp_;
-        // Up to 16 faces without a branch per face (an uncut face writes its dropped step to
-        // the spare slot past the section's vertices); a cell of more faces, mostly uncut,
-        // skips those.
+        // Every face without a branch per face: an uncut face writes its (dropped) step to the
+        // spare slot past the section's vertices; a cell of more than 16 faces, mostly uncut,
+        // first lists its cut ones (a branch-free compaction).
         std::uint32_t lo = 0xffffffffu, ns = 0;
         bool pinch = false;
-        const bool sparse = nfaces > 16;
-        for (std::uint32_t i = 0; i < nfaces; ++i) {
+        const std::uint32_t* pos = nullptr;
+        std::uint32_t count = nfaces;
+        if (nfaces > 16) {
+          if (cut_pos_.size() < nfaces + 1) cut_pos_.resize(nfaces + 1);
+          std::uint32_t* const list = cut_pos_.data();
+          std::uint32_t n = 0;
+          for (std::uint32_t i = 0; i < nfaces; ++i) {
+            list[n] = i;
+            n += face_edge[cell_faces[b + i]] != no_index;
+          }
+          pos = list;
+          count = n;
+        }
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t i = pos ? pos[k] : k;
           const std::uint32_t se = face_edge[cell_faces[b + i]];
-          if (sparse && se == no_index) continue;
           const std::uint32_t cut = se != no_index;
           const std::uint32_t r = se & (0u - cut);
           // The step's sign is minus the face's sign in the cell: forward when that is -1.

@@ -370,9 +370,9 @@ class Slicer {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
   std::vector<std::uint32_t> face_ends_, face_edge_;
-  std::vector<std::uint64_t> face_list_;   // (face << 8) | count of the faces to cut
-  std::vector<std::uint64_t> visit_list_;  // (cell << 8) | mark of the cells to cut
-  std::vector<std::uint32_t> crossing_ids_;
+  std::vector<std::uint64_t> face_list_;               // (face << 8) | count of the faces to cut
+  std::vector<std::uint64_t> visit_list_;              // (cell << 8) | mark of the cells to cut
+  std::vector<std::uint32_t> crossing_ids_, cut_pos_;  // cut_pos_: a large cell's cut faces
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
 };
