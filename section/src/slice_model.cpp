@@ -309,6 +309,8 @@ void SliceModel::build_tet_tables() {
   const Rank& F = ranks_[2];
   const Rank& C = ranks_[3];
   const std::size_t nc = C.offsets.size() - 1;
+  for (std::size_t x = 0; x < nc; ++x)  // (tables only when every cell has four faces)
+    if (C.offsets[x + 1] - C.offsets[x] != 4) return;
   std::vector<std::uint32_t> verts(4 * nc);
   std::vector<std::uint16_t> cases(16 * nc, 7);
   for (std::size_t x = 0; x < nc; ++x) {
