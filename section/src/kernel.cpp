@@ -120,10 +120,11 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
-  // Nothing is gathered by reading boundaries: each crossing edge hands its section vertex to
-  // the faces above it (coface lists carrying the edge's sign in the face), each cut face its
-  // section edge, as the step it makes, to the cells above it; a face or a cell then reads only
-  // what it was handed, from one place. The per-element counts double as the marks of the
+  // No face gathers its crossings by reading its boundary: each crossing edge hands its section
+  // vertex to the faces above it (coface lists carrying the edge's sign in the face), and a face
+  // reads its two from one place. Each cut face keeps its section edge's id (face_edge_, reset
+  // after the slice) and marks the cells above it; a cut cell reads its own faces' ids (a
+  // tetrahedron only those its table names). The per-element counts double as the marks of the
   // faces and cells to visit (zero between slices: cleared when listed, or wholly when the
   // kernel stops half way).
   if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
