@@ -26,7 +26,8 @@ namespace cw4d {
 namespace {
 
 // Lists every nonzero byte counts[x] of [b, e) as (x << 8) | counts[x] in increasing x, zeroing
-// those bytes (eight at a time); returns the new end of the list. The work on the listed
+// those bytes (eight at a time); returns the new end of the list (the entry at the end may be
+// written: the list needs room for one more). The work on the listed
 // elements is then a plain loop whose pointers and counters stay in registers (its byte stores
 // would otherwise make the compiler reload everything a visiting callback captures).
 inline std::uint64_t* list_counts(std::uint8_t* counts, std::uint32_t b, std::uint32_t e,
@@ -39,11 +40,12 @@ inline std::uint64_t* list_counts(std::uint8_t* counts, std::uint32_t b, std::ui
     std::memcpy(&w, counts + x, 8);
     if (!w) continue;
     std::memset(counts + x, 0, 8);
-    while (w) {
-      const int bit = __builtin_ctzll(w) & ~7;
-      *list++ =
-          (std::uint64_t{x + static_cast<std::uint32_t>(bit >> 3)} << 8) | ((w >> bit) & 0xffu);
-      w &= ~(std::uint64_t{0xff} << bit);
+    // Every byte of the word written, the list advanced past the nonzero ones: no branch per
+    // byte (whether a face or cell is cut is unpredictable).
+    for (std::uint32_t i = 0; i < 8; ++i) {
+      const std::uint64_t byte = (w >> (8 * i)) & 0xffu;
+      *list = (std::uint64_t{x + i} << 8) | byte;
+      list += byte != 0;
     }
   }
   for (; x < e; ++x)
@@ -51,6 +53,66 @@ inline std::uint64_t* list_counts(std::uint8_t* counts, std::uint32_t b, std::ui
   return list;
 }
 
+// The polygon of a cut cell of at most W faces (faces[i] with sign signs[i] in the cell), in
+// registers at a fixed width: each cut face (face_edge[f], its section edge, or no_index) is a
+// step, forward (edge_row's tail to head) when the face's sign in the cell is -1; the loop is
+// followed from the smallest tail and written to ids/signs (up to W entries; *added of them
+// are the polygon's). False when the steps are not one loop through every step of at least
+// three (a pinch, an open chain, several loops): the generic gathering decides those.
+template <int W>
+inline bool chain_fixed(const std::uint32_t* faces, const std::int8_t* signs, std::uint32_t nfaces,
+                        const std::uint32_t* face_edge, const std::uint32_t* edge_row,
+                        std::uint32_t* ids, std::int8_t* out_signs, std::uint32_t* added) {
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  constexpr std::uint32_t kNoTail = 0xffffffffu, kNoHead = 0xfffffffeu;  // (no vertex ids)
+  std::uint32_t tails[W], heads[W], edge[W];
+  std::uint32_t ns = 0;
+  for (std::uint32_t i = 0; i < nfaces; ++i) {
+    // Masks, not branches (which way a face goes, and whether it is cut, are unpredictable).
+    const std::uint32_t se = face_edge[faces[i]];
+    const std::uint32_t cut = se != no_index;
+    const std::uint32_t r = se & (0u - cut);  // (written to the next slot, kept only when cut)
+    const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(signs[i]) >> 31);
+    const std::uint32_t a = edge_row[2 * r], b = edge_row[2 * r + 1];
+    const std::uint32_t tail = b ^ ((a ^ b) & fwd);
+    tails[ns] = tail;
+    heads[ns] = a ^ b ^ tail;
+    edge[ns] = r | (kFlip & ~fwd);
+    ns += cut;
+  }
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(W); ++i) {
+    tails[i] = i < ns ? tails[i] : kNoTail;
+    heads[i] = i < ns ? heads[i] : kNoHead;
+    edge[i] = i < ns ? edge[i] : 0;
+  }
+  std::uint32_t lo = 0;
+  bool bad = ns < 3;
+  for (std::uint32_t i = 1; i < static_cast<std::uint32_t>(W); ++i) {
+    lo = tails[i] < tails[lo] ? i : lo;
+    for (std::uint32_t j = 0; j < i; ++j) bad |= tails[i] == tails[j] && i < ns;  // a pinch
+  }
+  std::uint32_t next[W];
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(W); ++i) {
+    std::uint32_t n = W;
+    for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(W); ++j)
+      n = tails[j] == heads[i] ? j : n;
+    next[i] = n;
+  }
+  // Walk W steps from lo (those past the ns-th are written and dropped); one loop through
+  // every step returns to lo first after exactly ns steps, each step having a successor.
+  std::uint32_t cur = lo, closed = 0;
+  for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(W); ++k) {
+    ids[k] = edge[cur] & kIndex;
+    out_signs[k] = (edge[cur] & kFlip) ? -1 : 1;
+    const std::uint32_t n = next[cur];
+    const bool live = k < ns;
+    bad |= live && n == static_cast<std::uint32_t>(W);  // the chain does not close
+    closed = live && closed == 0 && n == lo ? k + 1 : closed;
+    cur = n < static_cast<std::uint32_t>(W) ? n : 0;
+  }
+  *added = ns;
+  return !bad && closed == ns;
+}
 }  // namespace
 
 int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
@@ -58,10 +120,11 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
-  // Nothing is gathered by reading boundaries: each crossing edge hands its section vertex to
-  // the faces above it (coface lists carrying the edge's sign in the face), each cut face its
-  // section edge, as the step it makes, to the cells above it; a face or a cell then reads only
-  // what it was handed, from one place. The per-element counts double as the marks of the
+  // No face gathers its crossings by reading its boundary: each crossing edge hands its section
+  // vertex to the faces above it (coface lists carrying the edge's sign in the face), and a face
+  // reads its two from one place. Each cut face keeps its section edge's id (face_edge_, reset
+  // after the slice) and marks the cells above it; a cut cell reads its own faces' ids (a
+  // tetrahedron only those its table names). The per-element counts double as the marks of the
   // faces and cells to visit (zero between slices: cleared when listed, or wholly when the
   // kernel stops half way).
   if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
@@ -83,14 +146,14 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   if (face_mark_.size() < nf) face_mark_.resize(nf, 0);
   if (cell_mark_.size() < nc) cell_mark_.resize(nc, 0);
   if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
-  if (cell_base_.size() < nc) cell_base_.resize(nc);
+  if (face_edge_.size() < nf) face_edge_.resize(nf, no_index);
   std::uint8_t* const face_count = face_mark_.data();
   std::uint8_t* const cell_count = cell_mark_.data();
   std::uint32_t* const face_ends = face_ends_.data();
-  std::uint32_t* const cell_base = cell_base_.data();
   auto stop = [this](int result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
+    std::fill(face_edge_.begin(), face_edge_.end(), no_index);
     return result;
   };
   const std::uint32_t* const edge_up = m.up_offsets_[1].data();
@@ -156,75 +219,72 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     return 1;
   }
   // Rank 2: a face handed two crossings of opposite coefficients gives the section edge from
-  // the one with -1 to the one with +1, and hands it to its cells as the step their cut makes.
+  // the one with -1 to the one with +1; it keeps that edge's id for its cells and marks them.
+  // (list_counts may write one entry past the listed ones)
+  if (face_list_.size() < cut_faces_bound + 1) face_list_.resize(cut_faces_bound + 1);
+  std::uint64_t* const faces = face_list_.data();
+  std::uint64_t* faces_end = faces;
+  for (auto c : touched_)
+    faces_end = list_counts(face_count, m.begin_[1][c], m.begin_[1][c + 1], faces_end);
+  const std::uint32_t nse = static_cast<std::uint32_t>(faces_end - faces);
   Incidence::Storage edges = out.boundary[0].storage();
-  edges.ids.resize(2 * std::size_t{cut_faces_bound});
-  out.source[1].resize(cut_faces_bound);
-  std::uint32_t nse = 0, cut_cells_bound = 0;
-  {
-    std::uint32_t* const edge_row = edges.ids.data();
-    std::uint32_t* const src = out.source[1].data();
-    bool bad = false;
-    CellPush* push = cell_push_.data();
-    std::size_t push_room = cell_push_.size();
-    for (auto c : touched_) {
-      const std::uint32_t b = m.begin_[1][c], e = m.begin_[1][c + 1];
-      if (visit_list_.size() < e - b) visit_list_.resize(e - b);
-      std::uint64_t* const visit = visit_list_.data();
-      const std::uint64_t* const end = list_counts(face_count, b, e, visit);
-      for (const std::uint64_t* it = visit; it != end; ++it) {
-        const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
-        const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
-        // Two crossings (no more, no fewer), distinct, of opposite coefficients.
-        bad |= (*it & 0xffu) != 2 || ((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0;
-        const std::uint32_t tail = ((p & kFlip) ? q : p) & kIndex;
-        const std::uint32_t head = ((p & kFlip) ? p : q) & kIndex;
-        const std::uint32_t se = nse++;
-        edge_row[2 * se] = tail;
-        edge_row[2 * se + 1] = head;
-        src[se] = face_model ? face_model[x] : x;
-        const std::uint32_t j0 = face_up[x], j1 = face_up[x + 1];
-        if (cut_cells_bound + (j1 - j0) > push_room) {  // (rare once the scratch has grown)
-          cell_push_.resize(2 * (std::size_t{cut_cells_bound} + (j1 - j0)));
-          push = cell_push_.data();
-          push_room = cell_push_.size();
-        }
-        for (std::uint32_t j = j0; j < j1; ++j) {
-          const std::uint32_t up = face_up_ids[j];
-          const std::uint32_t y = up & kIndex;
-          const std::uint32_t k = cell_count[y];
-          // The step's sign is minus the face's sign in the cell: forward when that is -1.
-          push[cut_cells_bound++] = {
-              y, (up & kFlip) ? CellStep{tail, head, se} : CellStep{head, tail, se | kFlip}};
-          bad |= k == 255;
-          cell_count[y] = static_cast<std::uint8_t>(k + 1);
-        }
-      }
-      if (bad) return stop(-1);
-    }
-  }
-  out.source[1].resize(nse);
   edges.ids.resize(2 * std::size_t{nse});
   edges.signs.resize(2 * std::size_t{nse});
   edges.offsets.resize(std::size_t{nse} + 1);
-  for (std::uint32_t i = 0; i <= nse; ++i) edges.offsets[i] = 2 * i;
-  for (std::uint32_t i = 0; i < nse; ++i) edges.signs[2 * i] = -1, edges.signs[2 * i + 1] = 1;
-  // Rank 3 (the facets): the steps a cell was handed, one leaving each section vertex, followed
-  // from the smallest tail; one loop through every step is the polygon the generic gathering
-  // chains (loops start at the smallest tail, steps follow heads). A pinch, an open chain or
-  // several loops: the generic gathering. A cut of up to kSmall steps (a tetrahedron's, a
-  // dodecahedron's) is chained in registers, the step after each found by comparing tails; a
-  // larger one through a per-section-vertex step map (stamped per cell). Both decide alike.
-  const std::size_t nsv = out.vertex_source.size();
-  if (loop_step_.size() < nsv) loop_step_.resize(nsv, LoopStep{0, 0, 0});
+  out.source[1].resize(nse);
+  std::uint32_t cut_cells_bound = 0;  // (cut face, cell) pairs: the polygons' entries
+  {
+    std::uint32_t* const edge_row = edges.ids.data();
+    std::uint32_t* const src = out.source[1].data();
+    std::uint32_t* const face_edge = face_edge_.data();
+    bool bad = false;
+    for (std::uint32_t se = 0; se < nse; ++se) {
+      const std::uint64_t item = faces[se];
+      const std::uint32_t x = static_cast<std::uint32_t>(item >> 8);
+      const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
+      // Two crossings (no more, no fewer), distinct, of opposite coefficients.
+      bad |= (item & 0xffu) != 2 || ((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0;
+      const std::uint32_t tail = p ^ ((p ^ q) & (0u - (p >> 31)));  // (p's flip: q is the tail)
+      edge_row[2 * se] = tail & kIndex;
+      edge_row[2 * se + 1] = (p ^ q ^ tail) & kIndex;
+      src[se] = face_model ? face_model[x] : x;
+      face_edge[x] = se;
+      const std::uint32_t j0 = face_up[x], j1 = face_up[x + 1];
+      for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
+      cut_cells_bound += j1 - j0;
+    }
+    if (bad) return stop(-1);
+  }
+  {
+    std::uint32_t* const off = edges.offsets.data();
+    std::int8_t* const sg = edges.signs.data();
+    for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
+    for (std::uint32_t i = 0; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
+  }
+  // Rank 3 (the facets): a cut cell reads its faces' section edges (one step each, its
+  // direction the opposite of the face's sign in the cell); one loop through every step,
+  // followed from the smallest tail, is the polygon the generic gathering chains (loops start
+  // at the smallest tail, steps follow heads). A pinch, an open chain or several loops: the
+  // generic gathering. A tetrahedron's polygon is read from the model's table for the sides
+  // of its vertices; another cell of up to 4 faces is chained in registers at a fixed width
+  // (no branch on the cut's length), a larger one through a per-section-vertex step map
+  // (stamped per cell). All decide alike.
+  const std::uint32_t spare = static_cast<std::uint32_t>(out.vertex_source.size());
+  if (loop_step_.size() < spare + 1) loop_step_.resize(spare + 1, LoopStep{0, 0, 0});
   Incidence::Storage polys = out.boundary[1].storage();
-  polys.ids.resize(cut_cells_bound);
-  polys.signs.resize(cut_cells_bound);
-  polys.offsets.resize(std::size_t{cut_cells_bound} + 1);
-  out.source[2].resize(cut_cells_bound);
-  facet_internal_.resize(cut_cells_bound);
+  constexpr std::uint32_t kSlack = 4;  // (a fixed-width chain writes up to 4 entries)
+  polys.ids.resize(cut_cells_bound + kSlack);
+  polys.signs.resize(cut_cells_bound + kSlack);
   std::uint32_t npoly = 0;
   {
+    if (visit_list_.size() < cut_cells_bound + 1) visit_list_.resize(cut_cells_bound + 1);
+    std::uint64_t* const visit = visit_list_.data();
+    std::uint64_t* end = visit;
+    for (auto c : touched_) end = list_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], end);
+    const std::uint32_t ncut = static_cast<std::uint32_t>(end - visit);
+    polys.offsets.resize(std::size_t{ncut} + 1);
+    out.source[2].resize(ncut);
+    facet_internal_.resize(ncut);
     const bool above = m.top_ > 3;
     const bool chains_above = above && !m.single_solid_;
     std::uint32_t* const poly_ids = polys.ids.data();
@@ -236,110 +296,124 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     const std::uint32_t* const solid_up = above ? m.up_offsets_[3].data() : nullptr;
     const std::uint32_t* const solid_up_ids = above ? m.up_ids_[3].data() : nullptr;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
-    constexpr std::uint32_t kSmall = 12;
+    const std::uint32_t* const cell_off = C.offsets.data();
+    const std::uint32_t* const cell_faces = C.ids.data();
+    const std::int8_t* const cell_signs = C.signs.data();
+    const std::uint32_t* const face_edge = face_edge_.data();
+    const std::uint32_t* const edge_row = edges.ids.data();
+    const std::uint32_t* const tet_vertex =
+        m.tet_vertices_.empty() ? nullptr : m.tet_vertices_.data();
+    const std::uint16_t* const tet_case = m.tet_cases_.data();
     std::uint32_t entries = 0;
-    // The cut cells, cluster by cluster, with their counts; their steps grouped by cell (each
-    // cell's in the order they were handed) in one pass over what the faces handed.
-    if (visit_list_.size() < cut_cells_bound) visit_list_.resize(cut_cells_bound);
-    std::uint64_t* const visit = visit_list_.data();
-    std::uint64_t* end = visit;
-    for (auto c : touched_) end = list_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], end);
-    std::uint32_t sum = 0;
-    for (const std::uint64_t* it = visit; it != end; ++it) {
-      cell_base[*it >> 8] = sum;
-      sum += static_cast<std::uint32_t>(*it & 0xffu);
-    }
-    if (cell_steps_.size() < sum) cell_steps_.resize(sum);
-    CellStep* const grouped = cell_steps_.data();
-    const CellPush* const push = cell_push_.data();
-    for (std::uint32_t i = 0; i < cut_cells_bound; ++i)
-      grouped[cell_base[push[i].cell]++] = push[i].step;
-    {
-      bool ok = true;
-      for (const std::uint64_t* it = visit; it != end && ok; ++it) {
-        const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
-        const std::uint32_t ns = static_cast<std::uint32_t>(*it & 0xffu);
-        const CellStep* const steps = grouped + (cell_base[x] - ns);  // (bases moved past)
-        if (ns < 3) {
-          ok = false;
-        } else if (ns <= kSmall) {
-          std::uint32_t tails[kSmall], heads[kSmall], ids[kSmall];
-          std::uint32_t lo = 0;
-          for (std::uint32_t i = 0; i < ns; ++i) {
-            tails[i] = steps[i].tail, heads[i] = steps[i].head, ids[i] = steps[i].edge;
-            for (std::uint32_t j = 0; j < i; ++j) ok &= tails[j] != tails[i];  // a pinch
-            lo = tails[i] < tails[lo] ? i : lo;
-          }
-          const std::uint32_t first = tails[lo];
-          std::uint32_t cur = lo;
-          for (std::uint32_t k = 0; ok;) {
-            poly_ids[entries] = ids[cur] & kIndex;
-            poly_signs[entries] = (ids[cur] & kFlip) ? -1 : 1;
-            ++entries;
-            ++k;
-            const std::uint32_t h = heads[cur];
-            if (h == first) {
-              ok = k == ns;  // one loop through every step (or several loops)
-              break;
-            }
-            std::uint32_t next = kSmall;
-            for (std::uint32_t j = 0; j < ns; ++j) next = tails[j] == h ? j : next;
-            ok = k < ns && next != kSmall;  // (else the chain does not close)
-            cur = next;
-          }
-        } else {
-          if (++stamp_ == 0) {  // wrapped: forget every stamp
-            for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
-            stamp_ = 1;
-          }
-          const std::uint32_t st = stamp_;
-          std::uint32_t lo = 0xffffffffu;
-          for (std::uint32_t i = 0; i < ns && ok; ++i) {
-            const CellStep cs = steps[i];
-            ok = step[cs.tail].stamp != st;  // else a pinch (or a face listed twice)
-            step[cs.tail] = {st, cs.head, cs.edge};
-            lo = std::min(lo, cs.tail);
-          }
-          std::uint32_t cur = lo;
-          for (std::uint32_t k = 0; ok;) {
-            const LoopStep sp = step[cur];
-            if (sp.stamp != st) {
-              ok = false;  // the chain does not close
-              break;
-            }
-            poly_ids[entries] = sp.edge & kIndex;
-            poly_signs[entries] = (sp.edge & kFlip) ? -1 : 1;
-            ++entries;
-            ++k;
-            cur = sp.head;
-            if (cur == lo) {
-              ok = k == ns;  // else several loops
-              break;
-            }
-            ok = k < ns;
-          }
+    bool ok = true;
+    for (const std::uint64_t* it = visit; it != end && ok; ++it) {
+      const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
+      const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
+      std::uint32_t added = 0;
+      if (tet_vertex) {
+        // A tetrahedron: its polygon for the sides of its four vertices, decided when the
+        // model was compiled; only the faces' section edges are read.
+        const std::uint32_t* const tv = tet_vertex + 4 * x;
+        const std::uint32_t pattern = static_cast<std::uint32_t>(side[tv[0]] > 0) |
+                                      static_cast<std::uint32_t>(side[tv[1]] > 0) << 1 |
+                                      static_cast<std::uint32_t>(side[tv[2]] > 0) << 2 |
+                                      static_cast<std::uint32_t>(side[tv[3]] > 0) << 3;
+        const std::uint32_t code = tet_case[16 * x + pattern];
+        for (std::uint32_t k = 0; k < 4; ++k) {  // (a triangle's fourth entry is dropped)
+          const std::uint32_t entry = code >> (3 + 3 * k);
+          poly_ids[entries + k] = face_edge[cell_faces[b + (entry & 3u)]];
+          poly_signs[entries + k] = static_cast<std::int8_t>(1 - static_cast<int>(entry & 4u) / 2);
         }
-        if (!ok) break;
-        const std::uint32_t poly = npoly++;
-        poly_off[npoly] = entries;
-        src[poly] = cell_model ? cell_model[x] : x;
-        facet[poly] = x;
-        if (above) {
-          if (chains_above) {
-            images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
-            terms_[3].push_back({poly, 1});
+        added = code & 7u;
+        ok = added != 7;
+      } else if (nfaces <= 4) {
+        ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
+                            poly_ids + entries, poly_signs + entries, &added);
+      } else {
+        if (++stamp_ == 0) {  // wrapped: forget every stamp
+          for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
+          stamp_ = 1;
+        }
+        const std::uint32_t st = stamp_;
+        // Every face without a branch per face: an uncut face writes its (dropped) step to the
+        // spare slot past the section's vertices; a cell of more than 16 faces, mostly uncut,
+        // first lists its cut ones (a branch-free compaction).
+        std::uint32_t lo = 0xffffffffu, ns = 0;
+        bool pinch = false;
+        const std::uint32_t* pos = nullptr;
+        std::uint32_t count = nfaces;
+        if (nfaces > 16) {
+          if (cut_pos_.size() < nfaces + 1) cut_pos_.resize(nfaces + 1);
+          std::uint32_t* const list = cut_pos_.data();
+          std::uint32_t n = 0;
+          for (std::uint32_t i = 0; i < nfaces; ++i) {
+            list[n] = i;
+            n += face_edge[cell_faces[b + i]] != no_index;
           }
-          for (std::uint32_t j = solid_up[x]; j < solid_up[x + 1]; ++j) {  // mark_parents
-            const std::uint32_t y = solid_up_ids[j] & kIndex;
-            solid_bits[y >> 6] |= std::uint64_t{1} << (y & 63);
+          pos = list;
+          count = n;
+        }
+        for (std::uint32_t k = 0; k < count; ++k) {
+          const std::uint32_t i = pos ? pos[k] : k;
+          const std::uint32_t se = face_edge[cell_faces[b + i]];
+          const std::uint32_t cut = se != no_index;
+          const std::uint32_t r = se & (0u - cut);
+          // The step's sign is minus the face's sign in the cell: forward when that is -1.
+          const std::uint32_t fwd =
+              static_cast<std::uint32_t>(static_cast<std::int32_t>(cell_signs[b + i]) >> 31);
+          const std::uint32_t ea = edge_row[2 * r], eb = edge_row[2 * r + 1];
+          const std::uint32_t t = eb ^ ((ea ^ eb) & fwd);
+          const std::uint32_t slot = cut ? t : spare;
+          pinch |= cut && step[slot].stamp == st;  // a pinch (or a face listed twice)
+          step[slot] = {st, ea ^ eb ^ t, r | (kFlip & ~fwd)};
+          lo = std::min(lo, cut ? t : 0xffffffffu);
+          ns += cut;
+        }
+        ok = !pinch;
+        ok = ok && ns >= 3;
+        std::uint32_t cur = lo;
+        for (std::uint32_t k = 0; ok;) {
+          const LoopStep sp = step[cur];
+          if (sp.stamp != st) {
+            ok = false;  // the chain does not close
+            break;
           }
+          poly_ids[entries + k] = sp.edge & kIndex;
+          poly_signs[entries + k] = (sp.edge & kFlip) ? -1 : 1;
+          ++k;
+          cur = sp.head;
+          if (cur == lo) {
+            ok = k == ns;  // else several loops
+            added = k;
+            break;
+          }
+          ok = k < ns;
         }
       }
-      if (!ok) return stop(-1);
+      if (!ok) break;
+      entries += added;
+      const std::uint32_t poly = npoly++;
+      poly_off[npoly] = entries;
+      src[poly] = cell_model ? cell_model[x] : x;
+      facet[poly] = x;
+      if (above && !m.single_solid_) {
+        if (chains_above) {
+          images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
+          terms_[3].push_back({poly, 1});
+        }
+        for (std::uint32_t j = solid_up[x]; j < solid_up[x + 1]; ++j) {  // mark_parents
+          const std::uint32_t y = solid_up_ids[j] & kIndex;
+          solid_bits[y >> 6] |= std::uint64_t{1} << (y & 63);
+        }
+      }
     }
+    if (!ok) return stop(-1);
+    if (above && m.single_solid_ && npoly > 0) solid_bits[0] |= 1u;  // (every cell's one solid)
     polys.ids.resize(entries);
     polys.signs.resize(entries);
   }
+  for (const std::uint64_t* it = faces; it != faces_end; ++it)
+    face_edge_[static_cast<std::uint32_t>(*it >> 8)] = no_index;
   out.source[2].resize(npoly);
   facet_internal_.resize(npoly);
   polys.offsets.resize(std::size_t{npoly} + 1);

@@ -137,6 +137,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     facet_normals_.assign(fnrm.data(), fnrm.data() + n * nf);
     build_cofaces();
     find_single_solid();
+    build_tet_tables();
     return;
   }
   // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
@@ -241,6 +242,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   }
   build_cofaces();
   find_single_solid();
+  build_tet_tables();
 }
 
 void SliceModel::find_single_solid() {
@@ -297,6 +299,107 @@ void SliceModel::build_cofaces() {
     for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
 }
 
+void SliceModel::build_tet_tables() {
+  // Each pattern's polygon decided here as the kernel's face and cell passes decide it at slice
+  // time (the same rules on the same combinatorics), once per cell instead of once per slice.
+  tet_vertices_.clear();
+  tet_cases_.clear();
+  if (dim_ != 4 || top_ < 3 || !unit_signs_) return;
+  const Rank& E = ranks_[1];
+  const Rank& F = ranks_[2];
+  const Rank& C = ranks_[3];
+  const std::size_t nc = C.offsets.size() - 1;
+  for (std::size_t x = 0; x < nc; ++x)  // (tables only when every cell has four faces)
+    if (C.offsets[x + 1] - C.offsets[x] != 4) return;
+  std::vector<std::uint32_t> verts(4 * nc);
+  std::vector<std::uint16_t> cases(16 * nc, 7);
+  for (std::size_t x = 0; x < nc; ++x) {
+    const std::uint32_t b = C.offsets[x];
+    if (C.offsets[x + 1] - b != 4) return;  // (tables only when every cell is a tetrahedron)
+    std::uint32_t v[12];
+    int nv = 0;
+    for (int i = 0; i < 4; ++i) {
+      const std::uint32_t f = C.ids[b + i];
+      if (F.offsets[f + 1] - F.offsets[f] != 3) return;
+      for (int j = 0; j < i; ++j)
+        if (C.ids[b + j] == f) return;
+      for (std::uint32_t k = F.offsets[f]; k < F.offsets[f + 1]; ++k)
+        for (int end = 0; end < 2; ++end) v[nv++] = E.ids[2 * F.ids[k] + end];
+    }
+    int nu = 0;  // the distinct vertices, ascending (insertion into a short list)
+    for (int i = 0; i < nv; ++i) {
+      const std::uint32_t y = v[i];
+      int j = 0;
+      while (j < nu && v[j] < y) ++j;
+      if (j < nu && v[j] == y) continue;
+      if (nu == 4) return;  // more than four vertices
+      for (int k = nu; k > j; --k) v[k] = v[k - 1];
+      v[j] = y;
+      ++nu;
+    }
+    if (nu != 4) return;
+    std::copy(v, v + 4, &verts[4 * x]);
+    for (std::uint32_t pattern = 1; pattern < 15; ++pattern) {
+      const auto above = [&](std::uint32_t vertex) {
+        const int k = static_cast<int>(std::find(v, v + 4, vertex) - v);
+        return ((pattern >> k) & 1u) != 0;
+      };
+      // Steps (tail edge, head edge, position in the cell, forward) of the cut faces.
+      std::uint32_t tails[4], heads[4], pos[4];
+      bool fwd[4];
+      int ns = 0;
+      bool ok = true;
+      for (std::uint32_t i = 0; i < 4 && ok; ++i) {
+        const std::uint32_t f = C.ids[b + i];
+        std::uint32_t ends[3];
+        bool plus[3];
+        int nx = 0;
+        for (std::uint32_t k = F.offsets[f]; k < F.offsets[f + 1]; ++k) {
+          const std::uint32_t e = F.ids[k];
+          const bool a_above = above(E.ids[2 * e]);
+          if (a_above == above(E.ids[2 * e + 1])) continue;
+          ends[nx] = e;
+          plus[nx] = (F.signs[k] < 0) != a_above;  // the crossing's coefficient is +1
+          ++nx;
+        }
+        if (nx == 0) continue;
+        if (nx != 2 || plus[0] == plus[1] || ends[0] == ends[1]) {
+          ok = false;
+          break;
+        }
+        const std::uint32_t tail = plus[0] ? ends[1] : ends[0];
+        const std::uint32_t head = plus[0] ? ends[0] : ends[1];
+        fwd[ns] = C.signs[b + i] < 0;
+        tails[ns] = fwd[ns] ? tail : head;
+        heads[ns] = fwd[ns] ? head : tail;
+        pos[ns] = i;
+        ++ns;
+      }
+      if (!ok || ns < 3) continue;
+      int lo = 0;
+      for (int i = 0; i < ns; ++i) {
+        for (int j = 0; j < i; ++j) ok = ok && tails[i] != tails[j];
+        if (tails[i] < tails[lo]) lo = i;
+      }
+      if (!ok) continue;
+      std::uint16_t code = static_cast<std::uint16_t>(ns);
+      int cur = lo, k = 0;
+      for (; k < ns; ++k) {
+        code =
+            static_cast<std::uint16_t>(code | ((pos[cur] | (fwd[cur] ? 0u : 4u)) << (3 + 3 * k)));
+        int next = -1;
+        for (int j = 0; j < ns; ++j)
+          if (tails[j] == heads[cur]) next = j;
+        if (next < 0 || (next == lo) != (k + 1 == ns)) break;
+        cur = next;
+      }
+      if (k == ns) cases[16 * x + pattern] = code;
+    }
+  }
+  tet_vertices_ = std::move(verts);
+  tet_cases_ = std::move(cases);
+}
+
 bool SliceModel::compiled_from(const Complex& c) const {
   if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
   const auto same = [](const auto* a, const auto* b, std::size_t count) {
@@ -325,6 +428,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
 
 std::size_t SliceModel::bytes() const {
   std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+                  tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
                   facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
                   cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +
                   cluster_sphere_.size() * sizeof(double);

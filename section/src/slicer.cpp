@@ -11,6 +11,9 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -306,7 +309,34 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     double* sv = s_.data();
     std::int8_t* sd = side_.data();
     bool on = false;
-    for (std::uint32_t v = 0; v < nv; ++v) {
+    std::uint32_t v = 0;
+#if defined(__SSE2__)
+    {
+      // Two vertices at a time, each lane the same operations in the same order (same bits).
+      const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
+                    c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
+                    lo = _mm_set1_pd(-tol);
+      int on_bits = 0;
+      for (; v + 2 <= nv; v += 2) {
+        const double* x = P + 4 * v;
+        const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
+        const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
+        __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
+        h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
+        h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
+        h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
+        const __m128d sval = _mm_sub_pd(h, cd);
+        _mm_storeu_pd(sv + v, sval);
+        const int gt = _mm_movemask_pd(_mm_cmpgt_pd(sval, hi));
+        const int lt = _mm_movemask_pd(_mm_cmplt_pd(sval, lo));
+        sd[v] = static_cast<std::int8_t>((gt & 1) - (lt & 1));
+        sd[v + 1] = static_cast<std::int8_t>((gt >> 1) - (lt >> 1));
+        on_bits |= ~(gt | lt) & 3;
+      }
+      on = on_bits != 0;
+    }
+#endif
+    for (; v < nv; ++v) {
       const double* x = P + 4 * v;
       double h = n0 * x[0];
       h += n1 * x[1];
@@ -583,6 +613,57 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
                    std::span<const std::uint32_t> section_edge, const VertexSource* source,
                    std::span<const std::uint32_t> facet_internal, double* coords, double* normals) {
   constexpr int O = N - 1;
+#if defined(__SSE2__)
+  if constexpr (N == 4) {
+    // The same operations, each lane its own term in the same order (so the same bits): rows
+    // 0 and 1 of M and Nm two at a time, the point's coordinates two at a time.
+    __m128d m01[4], n01[4];
+    for (int j = 0; j < 4; ++j)
+      m01[j] = _mm_set_pd(M[4 + j], M[j]), n01[j] = _mm_set_pd(Nm[4 + j], Nm[j]);
+    const __m128d c01 = _mm_loadu_pd(c);
+    const __m128d one = _mm_set1_pd(1.0);
+    for (std::size_t i = 0; i < section_edge.size(); ++i) {
+      const std::uint32_t e = section_edge[i];
+      const double* pa = P + edge_ids[2 * e] * 4;
+      const double* pb = P + edge_ids[2 * e + 1] * 4;
+      const __m128d t = _mm_set1_pd(source[i].t);
+      const __m128d u = _mm_sub_pd(one, t);
+      const __m128d x01 =
+          _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa)), _mm_mul_pd(t, _mm_loadu_pd(pb)));
+      const __m128d x23 =
+          _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa + 2)), _mm_mul_pd(t, _mm_loadu_pd(pb + 2)));
+      const __m128d xj[4] = {_mm_unpacklo_pd(x01, x01), _mm_unpackhi_pd(x01, x01),
+                             _mm_unpacklo_pd(x23, x23), _mm_unpackhi_pd(x23, x23)};
+      __m128d sum = c01;
+      for (int j = 0; j < 4; ++j) sum = _mm_add_pd(sum, _mm_mul_pd(m01[j], xj[j]));
+      __m128d s2 = _mm_load_sd(c + 2);
+      for (int j = 0; j < 4; ++j) s2 = _mm_add_sd(s2, _mm_mul_sd(_mm_load_sd(M + 8 + j), xj[j]));
+      _mm_storeu_pd(coords + i * 3, sum);
+      _mm_store_sd(coords + i * 3 + 2, s2);
+    }
+    for (std::size_t f = 0; f < facet_internal.size(); ++f) {
+      const std::uint32_t x = facet_internal[f];
+      const double* nf = facet_normals + std::size_t{facet_id ? facet_id[x] : x} * 4;
+      __m128d y01 = _mm_setzero_pd(), y2 = _mm_setzero_pd();
+      for (int j = 0; j < 4; ++j) {
+        const __m128d v = _mm_set1_pd(nf[j]);
+        y01 = _mm_add_pd(y01, _mm_mul_pd(n01[j], v));
+        y2 = _mm_add_sd(y2, _mm_mul_sd(_mm_load_sd(Nm + 8 + j), v));
+      }
+      double y[3];
+      _mm_storeu_pd(y, y01);
+      y[2] = _mm_cvtsd_f64(y2);
+      double len2 = 0.0;
+      for (int r = 0; r < 3; ++r) len2 += y[r] * y[r];
+      const double len = std::sqrt(len2);
+      if (len < tol::near_parallel_normal) return false;
+      const __m128d l = _mm_set1_pd(len);
+      _mm_storeu_pd(normals + f * 3, _mm_div_pd(y01, l));
+      normals[f * 3 + 2] = y[2] / len;
+    }
+    return true;
+  }
+#endif
   // Vertices: y = M ((1 - t) a + t b) + c.
   for (std::size_t i = 0; i < section_edge.size(); ++i) {
     const std::uint32_t e = section_edge[i];

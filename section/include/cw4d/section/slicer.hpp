@@ -117,6 +117,14 @@ class SliceModel {
   // model ids: renumbered models are never compared against the complex, see compiled_from).
   std::vector<double> facet_normals_;
   std::vector<double> edge_length_;  // per internal edge
+  // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
+  // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
+  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
+  // face's position in the cell's boundary, bit 2 set when the face's section edge enters
+  // with -1). Empty otherwise.
+  std::vector<std::uint32_t> tet_vertices_;
+  std::vector<std::uint16_t> tet_cases_;
+  void build_tet_tables();
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
   // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
   // above the facets are always processed. One cluster (no reordering) for small models.
@@ -355,25 +363,16 @@ class Slicer {
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
   // kernel_slice scratch: per model face the crossings handed to it (count in face_mark_, the
-  // two section vertices | coefficient bit in face_ends_), per model cell the number of steps
-  // handed to it (cell_mark_; the steps themselves sized by the section, not the model), per
-  // section vertex the step leaving it in the current cell.
+  // two section vertices | coefficient bit in face_ends_) and, while its cells are cut, its
+  // section edge (face_edge_; no_index when uncut), per model cell a mark (cell_mark_), per
+  // section vertex the step leaving it in the current cell (stamped; large cells only).
   struct LoopStep {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
-  struct CellStep {
-    std::uint32_t tail, head, edge;  // edge: section edge | 0x80000000 when reversed
-  };
-  struct CellPush {
-    std::uint32_t cell;
-    CellStep step;
-  };
-  std::vector<std::uint32_t> face_ends_;
-  std::vector<CellPush> cell_push_;        // the steps the cut faces handed, in that order
-  std::vector<CellStep> cell_steps_;       // the same grouped by cell
-  std::vector<std::uint32_t> cell_base_;   // per model cell: where its steps start there
-  std::vector<std::uint64_t> visit_list_;  // (element << 8) | count of the faces or cells to cut
-  std::vector<std::uint32_t> crossing_ids_;
+  std::vector<std::uint32_t> face_ends_, face_edge_;
+  std::vector<std::uint64_t> face_list_;               // (face << 8) | count of the faces to cut
+  std::vector<std::uint64_t> visit_list_;              // (cell << 8) | mark of the cells to cut
+  std::vector<std::uint32_t> crossing_ids_, cut_pos_;  // cut_pos_: a large cell's cut faces
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
 };
