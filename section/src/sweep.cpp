@@ -298,9 +298,19 @@ void Slicer::sweep_incidences(const SliceModel& m) {
               w.vertex_edge_offsets, cursor);
   w.vertex_edges.resize(2 * std::size_t{ne});
   for (std::uint32_t e = 0; e < ne; ++e) {
-    w.vertex_edges[cursor[E.ids[2 * e]]++] = e;
-    w.vertex_edges[cursor[E.ids[2 * e + 1]]++] = e;
+    const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+    w.vertex_edges[cursor[a]++] = {e, b};
+    w.vertex_edges[cursor[b]++] = {e, a};
   }
+  // Each face row entry as its edge and the edge's tail (| kSweepFlip: the sign -1), each cell
+  // row entry as its face (| kSweepFlip: the sign +1, the step runs backward).
+  w.face_entries.resize(F.ids.size());
+  for (std::size_t i = 0; i < F.ids.size(); ++i)
+    w.face_entries[i] = {F.ids[i],
+                         E.ids[2 * std::size_t{F.ids[i]}] | (F.signs[i] < 0 ? kSweepFlip : 0u)};
+  w.cell_entries.resize(C.ids.size());
+  for (std::size_t i = 0; i < C.ids.size(); ++i)
+    w.cell_entries[i] = C.ids[i] | (C.signs[i] < 0 ? 0u : kSweepFlip);
   csr_offsets(F.ids, ne, w.edge_face_offsets, cursor);
   w.edge_faces.resize(F.ids.size());
   for (std::uint32_t f = 0; f < nf; ++f)
@@ -319,22 +329,24 @@ std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
   // edge's tail is below) give the section edge from the -1 crossing to the +1 one.
   SweepState& w = sweep_;
   const SliceModel::Rank& F = m.ranks_[2];
-  const std::uint32_t* edge_ends = m.ranks_[1].ids.data();
+  const SweepSlot* entries = w.face_entries.data();
+  const std::int8_t* side = side_.data();
   std::uint32_t e[2];
   int coef[2];
   int cnt = 0;
   if (!each_bit(w.face_row_bits.data(), F.offsets[f], F.offsets[f + 1], [&](std::uint32_t i) {
         if (cnt == 2) return false;
-        const std::uint32_t x = F.ids[i];
-        coef[cnt] = side_[edge_ends[2 * x]] < 0 ? -F.signs[i] : F.signs[i];
-        e[cnt++] = x;
+        const SweepSlot x = entries[i];
+        // (the signs are +-1: the model has unit signs)
+        coef[cnt] = (side[x.index & ~kSweepFlip] < 0) != ((x.index & kSweepFlip) != 0) ? -1 : 1;
+        e[cnt++] = x.element;
         return true;
       }))
     return 2;  // more than two crossings
   if (cnt == 0) return 0;
   if (cnt != 2 || e[0] == e[1] || coef[0] != -coef[1]) return 2;
-  w.face_tail[f] = coef[0] < 0 ? e[0] : e[1];
-  w.face_head[f] = coef[0] < 0 ? e[1] : e[0];
+  w.face_ends[2 * f] = coef[0] < 0 ? e[0] : e[1];
+  w.face_ends[2 * f + 1] = coef[0] < 0 ? e[1] : e[0];
   return 1;
 }
 
@@ -343,18 +355,19 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   // is -1), one leaving each tail, followed from the smallest tail through every step.
   SweepState& w = sweep_;
   const SliceModel::Rank& C = m.ranks_[3];
+  const std::uint32_t* cell_entries = w.cell_entries.data();
   std::uint32_t tails[kSweepSmall], heads[kSweepSmall], entries[kSweepSmall];
   std::uint32_t ns = 0;
   bool kernel = true;
   std::vector<std::uint32_t>& more = w.steps;  // the steps beyond kSweepSmall
   more.clear();
   each_bit(w.cell_row_bits.data(), C.offsets[c], C.offsets[c + 1], [&](std::uint32_t i) {
-    const std::uint32_t f = C.ids[i];
+    const std::uint32_t entry = cell_entries[i];
+    const std::uint32_t f = entry & ~kSweepFlip;
     if (w.face_state[f] != 1) return kernel = false;
-    const bool forward = C.signs[i] < 0;
-    const std::uint32_t tail = forward ? w.face_tail[f] : w.face_head[f];
-    const std::uint32_t head = forward ? w.face_head[f] : w.face_tail[f];
-    const std::uint32_t entry = forward ? f : f | kSweepFlip;
+    const std::uint32_t back = entry >> 31;  // the step runs from the face's head
+    const std::uint32_t tail = w.face_ends[2 * f + back];
+    const std::uint32_t head = w.face_ends[2 * f + (back ^ 1u)];
     if (ns < kSweepSmall) {
       tails[ns] = tail, heads[ns] = head, entries[ns] = entry;
     } else {
@@ -432,7 +445,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
   const std::int8_t* side = side_.data();
-  const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_e, &w.stamp_f, &w.stamp_c});
+  const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_f, &w.stamp_c});
   const SweepSlot* edge_faces = w.edge_faces.data();
   const std::uint32_t* edge_face_offsets = w.edge_face_offsets.data();
   const SweepSlot* face_cells = w.face_cells.data();
@@ -468,7 +481,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
         w.edge_in[e] = 1;
         put_bit(w.edge_bits, e, true);
         for (std::uint32_t i = edge_face_offsets[e]; i < edge_face_offsets[e + 1]; ++i)
-          flip_bit(face_row, edge_faces[i].position);
+          flip_bit(face_row, edge_faces[i].index);
       }
     for (std::uint32_t f = 0; f < nf; ++f) {
       const std::uint8_t now = sweep_face(m, f);
@@ -477,7 +490,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       if (now == 1) put_bit(w.face_bits, f, true);
       if (now != 0)
         for (std::uint32_t i = face_cell_offsets[f]; i < face_cell_offsets[f + 1]; ++i)
-          flip_bit(w.cell_row_bits.data(), face_cells[i].position);
+          flip_bit(w.cell_row_bits.data(), face_cells[i].index);
     }
     for (std::uint32_t c = 0; c < nc; ++c) cell_pass(c);
     list_bits(w.edge_bits, w.edges);
@@ -491,17 +504,15 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   bool changed = false;
   for (std::uint32_t v : moved)
     for (std::uint32_t i = w.vertex_edge_offsets[v]; i < w.vertex_edge_offsets[v + 1]; ++i) {
-      const std::uint32_t e = w.vertex_edges[i];
-      if (w.stamp_e[e] == st) continue;
-      w.stamp_e[e] = st;
-      const std::uint8_t in = side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
-      if (in == w.edge_in[e]) continue;  // (both ends moved)
+      const std::uint32_t e = w.vertex_edges[i].element;
+      const std::uint8_t in = side[v] != side[w.vertex_edges[i].index];
+      if (in == w.edge_in[e]) continue;  // (both ends moved: it crosses neither time)
       w.edge_in[e] = in;
       put_bit(w.edge_bits, e, in);
       changed = true;
       for (std::uint32_t j = edge_face_offsets[e]; j < edge_face_offsets[e + 1]; ++j) {
         const SweepSlot s = edge_faces[j];
-        flip_bit(face_row, s.position);
+        flip_bit(face_row, s.index);
         if (w.stamp_f[s.element] != st) {
           w.stamp_f[s.element] = st;
           w.near_f.push_back(s.element);
@@ -514,16 +525,17 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   changed = false;
   for (std::uint32_t f : w.near_f) {
     const std::uint8_t was = w.face_state[f];
-    const std::uint32_t tail = w.face_tail[f], head = w.face_head[f];
+    const std::uint32_t tail = w.face_ends[2 * f], head = w.face_ends[2 * f + 1];
     const std::uint8_t now = sweep_face(m, f);
-    if (now == was && (now != 1 || (w.face_tail[f] == tail && w.face_head[f] == head))) continue;
+    if (now == was && (now != 1 || (w.face_ends[2 * f] == tail && w.face_ends[2 * f + 1] == head)))
+      continue;
     w.face_state[f] = now;
     w.bad += (now == 2) - (was == 2);
     if ((now == 1) != (was == 1)) put_bit(w.face_bits, f, now == 1), changed = true;
     const bool row = (now != 0) != (was != 0);
     for (std::uint32_t j = face_cell_offsets[f]; j < face_cell_offsets[f + 1]; ++j) {
       const SweepSlot s = face_cells[j];
-      if (row) flip_bit(w.cell_row_bits.data(), s.position);
+      if (row) flip_bit(w.cell_row_bits.data(), s.index);
       if (w.stamp_c[s.element] != st) {
         w.stamp_c[s.element] = st;
         w.near_c.push_back(s.element);
@@ -547,18 +559,18 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   }
 }
 
-bool Slicer::sweep_normal(const SliceModel& m, const Placement& pl, std::uint32_t c,
-                          double* normal) {
-  // write_geometry's facet normal of cell c (term for term), once per sweep: the model facet's
-  // normal through A^{-T}, projected, unit; false when nearly parallel to the plane.
+void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
+  // write_geometry's facet normal of every cell (term for term): the model facet's normal
+  // through A^{-T}, projected, unit; the fourth entry 0 when nearly parallel to the plane.
   SweepState& w = sweep_;
-  double* y = &w.cell_normal[4 * std::size_t{c}];
-  if (w.normal_stamp[c] != w.normal_gen) {
-    w.normal_stamp[c] = w.normal_gen;
-    const bool copied = !m.facet_normals_.empty() || m.ranks_[3].model_id.empty();
-    const double* nf =
-        copied ? m.facet_normals_.data() + 4 * std::size_t{c}
-               : m.model_->facet_normals().data() + 4 * std::size_t{m.ranks_[3].model_id[c]};
+  const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
+  w.cell_normal.resize(4 * std::size_t{nc});
+  const bool copied = !m.facet_normals_.empty() || m.ranks_[3].model_id.empty();
+  const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
+  const std::uint32_t* fid = copied ? nullptr : m.ranks_[3].model_id.data();
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const double* nf = fn + 4 * std::size_t{fid ? fid[c] : c};
+    double* y = &w.cell_normal[4 * std::size_t{c}];
     double len2 = 0.0;
     for (int r = 0; r < 3; ++r) {
       double sum = 0.0;
@@ -570,8 +582,6 @@ bool Slicer::sweep_normal(const SliceModel& m, const Placement& pl, std::uint32_
     y[3] = len < tol::near_parallel_normal ? 0.0 : 1.0;
     for (int r = 0; r < 3; ++r) y[r] = y[r] / len;
   }
-  normal[0] = y[0], normal[1] = y[1], normal[2] = y[2];
-  return y[3] != 0.0;
 }
 
 void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
@@ -584,7 +594,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
     restore = true;
   };
-  if (!m.unit_signs_) {  // multiplicities: the generic gathering decides every layer
+  if (!m.unit_signs_ || m.positions_.size() / 4 >= kSweepFlip) {
+    // Multiplicities: the generic gathering decides every layer (and vertex ids must leave
+    // the top bit free for the face entries' sign).
     for (auto k : layers) single(k);
     return;
   }
@@ -605,14 +617,14 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     w.by_layer.resize(nv);
     for (std::uint32_t v = 0; v < nv; ++v) w.by_layer[cursor[w.vertex_layer[v]]++] = v;
   }
-  for (auto* a : {&w.stamp_e, &w.loop_stamp, &w.loop_head, &w.loop_entry, &w.vertex_index})
+  for (auto* a : {&w.loop_stamp, &w.loop_head, &w.loop_entry, &w.vertex_index})
     if (a->size() < ne) a->resize(ne, 0);
-  for (auto* a : {&w.stamp_f, &w.face_tail, &w.face_head, &w.edge_index})
+  for (auto* a : {&w.stamp_f, &w.edge_index})
     if (a->size() < nf) a->resize(nf, 0);
-  for (auto* a : {&w.stamp_c, &w.cell_loop, &w.cell_size, &w.normal_stamp})
+  if (w.face_ends.size() < 2 * std::size_t{nf}) w.face_ends.resize(2 * std::size_t{nf});
+  for (auto* a : {&w.stamp_c, &w.cell_loop, &w.cell_size})
     if (a->size() < nc) a->resize(nc, 0);
-  if (w.cell_normal.size() < 4 * std::size_t{nc}) w.cell_normal.resize(4 * std::size_t{nc});
-  next_stamp(w.normal_gen, {&w.normal_stamp});  // the normals of this sweep's normal
+  sweep_normals(m, pl);  // (they depend on the normal and the placement only)
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   bool valid = false;       // the structure describes the sides of the last layer it built
   std::uint32_t below = 0;  // vertices by_layer[0, below) are below that layer
@@ -757,14 +769,13 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       std::uint32_t* offs = edges.offsets.data();
       std::uint32_t* src = src_store.data();
       const std::uint32_t* faces = w.faces.data();
-      const std::uint32_t* tail = w.face_tail.data();
-      const std::uint32_t* head = w.face_head.data();
+      const std::uint32_t* face_ends = w.face_ends.data();
       const std::uint32_t* vertex_index = w.vertex_index.data();
       std::uint32_t* edge_index = w.edge_index.data();
       for (std::uint32_t i = 0; i < nse; ++i) {
         const std::uint32_t f = faces[i];
-        ids[2 * i] = vertex_index[tail[f]];
-        ids[2 * i + 1] = vertex_index[head[f]];
+        ids[2 * i] = vertex_index[face_ends[2 * f]];
+        ids[2 * i + 1] = vertex_index[face_ends[2 * f + 1]];
         src[i] = face_id ? face_id[f] : f;
         edge_index[f] = i;
       }
@@ -818,8 +829,16 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       if (direct) {
         o.facet_normals.resize(3 * std::size_t{npoly});
         double* normals = o.facet_normals.data();
-        for (std::uint32_t p = 0; p < npoly && ok; ++p)
-          ok = sweep_normal(m, pl, cells[p], normals + 3 * std::size_t{p});
+        const double* cell_normal = w.cell_normal.data();
+        double parallel = 1.0;
+        for (std::uint32_t p = 0; p < npoly; ++p) {
+          const double* y = cell_normal + 4 * std::size_t{cells[p]};
+          normals[3 * p] = y[0];
+          normals[3 * p + 1] = y[1];
+          normals[3 * p + 2] = y[2];
+          parallel *= y[3];
+        }
+        ok = parallel != 0.0;
       } else {
         section_edge_.assign(w.edges.begin(), w.edges.end());
         facet_internal_.assign(cells, cells + npoly);
