@@ -671,6 +671,22 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       sweep_update(m, moved, rebuild);
       last = kNoLayer;
     }
+    if (j + 1 < L) {
+      // The stars of the next layer's vertices, fetched while this layer is written (on a
+      // large model they lie anywhere in memory).
+      const std::uint32_t* vo = w.vertex_edge_offsets.data();
+      const SweepSlot* ve = w.vertex_edges.data();
+      const std::uint32_t* eo = w.edge_face_offsets.data();
+      const SweepSlot* ef = w.edge_faces.data();
+      for (std::uint32_t i = to; i < lv[j + 2]; ++i) {
+        const std::uint32_t v = w.by_layer[i];
+        for (std::uint32_t q = vo[v]; q < vo[v + 1]; ++q) {
+          const std::uint32_t e = ve[q].element;
+          __builtin_prefetch(ef + eo[e]);
+          __builtin_prefetch(w.edge_in.data() + e);
+        }
+      }
+    }
     valid = true;
     const bool same = !rebuild && to == below && last != kNoLayer;
     below = to;
