@@ -10,10 +10,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/section/slicer.hpp"
@@ -215,4 +217,134 @@ TEST_CASE("sweep: a non-convex model whose cuts the kernel leaves to the generic
   // Some of those layers did go through the generic gathering.
   CHECK(probe.generic_elements() > 0);
   CHECK(counts.layers - counts.general - counts.empty > 3000);
+}
+
+TEST_CASE("sweep: many vertices passed per layer, mirrored, and layers at vertex heights",
+          "[slicer][sweep]") {
+  // Models whose layers each pass tens to hundreds of vertices (every layer renews much of the
+  // structure, below the quarter that rebuilds it): a large duoprism and the omnitruncated
+  // 120-cell, 48 to 256 layers, identity and mirrored placements (the polygons reversed as
+  // written), some layers exactly at vertex heights and one rounding step beside them.
+  std::mt19937 rng(20261205);
+  Counts counts;
+  for (const std::string spec : {"duoprism:48,40", "omnitruncated 120-cell"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model, SliceModelOptions::unclustered());
+    for (int round = 0; round < 2; ++round) {
+      INFO("round " << round);
+      const Eigen::VectorXd normal = test::random_unit(rng, 4);
+      const AffineTransform xf = round == 0 ? AffineTransform::identity(4) : placement(rng, true);
+      const std::vector<double> h = heights(model, normal, xf);
+      for (std::size_t count : {256u, 48u}) {
+        std::vector<double> d(count);
+        for (std::size_t i = 0; i < count; ++i)
+          d[i] = h.front() + (h.back() - h.front()) * (static_cast<double>(i) + 0.5) /
+                                 static_cast<double>(count);
+        std::uniform_int_distribution<std::size_t> pick(0, h.size() - 1);
+        for (int i = 0; i < 4; ++i) {
+          const double x = h[pick(rng)];
+          d.push_back(x);
+          d.push_back(std::nextafter(x, 1e300));
+        }
+        check_sweep(compiled, normal, d, xf, counts);
+      }
+    }
+  }
+  CHECK(counts.general > 0);
+  CHECK(counts.layers - counts.general - counts.empty > 1000);
+}
+
+TEST_CASE("sweep: several solids (two tesseracts sharing a cube)", "[slicer][sweep]") {
+  // A 2 x 1 x 1 x 1 box cut into two unit tesseracts: the cut of each solid is gathered above
+  // the polygons (not the single solid's row).
+  ComplexSoup soup;
+  soup.ambient_dim = 4;
+  auto vid = [](int x, int y, int z, int w) {
+    return static_cast<std::uint32_t>(((x * 2 + y) * 2 + z) * 2 + w);
+  };
+  soup.positions.resize(4, 24);
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 2; ++y)
+      for (int z = 0; z < 2; ++z)
+        for (int w = 0; w < 2; ++w)
+          soup.positions.col(vid(x, y, z, w)) = Eigen::Vector4d(x, y, z, w);
+  const int size[4] = {3, 2, 2, 2};
+  auto at = [&](const int* p) { return vid(p[0], p[1], p[2], p[3]); };
+  std::map<std::vector<std::uint32_t>, std::uint32_t> square_id, cube_id;
+  auto key = [](std::vector<std::uint32_t> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  // Unit squares (axes i < j from each base point) and unit cubes (axes i < j < k).
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      for (int b = 0; b < 24; ++b) {
+        int p[4] = {b / 8, (b / 4) % 2, (b / 2) % 2, b % 2};
+        if (p[i] + 1 >= size[i] || p[j] + 1 >= size[j]) continue;
+        int q[4][4];
+        for (int c = 0; c < 4; ++c) std::copy(p, p + 4, q[c]);
+        ++q[1][i], ++q[2][i], ++q[2][j], ++q[3][j];
+        const std::vector<std::uint32_t> cycle = {at(q[0]), at(q[1]), at(q[2]), at(q[3])};
+        square_id[key(cycle)] = static_cast<std::uint32_t>(soup.faces.size());
+        soup.faces.push_back(cycle);
+      }
+  soup.higher.resize(2);
+  auto corners = [&](const int* p, std::initializer_list<int> axes) {
+    std::vector<std::uint32_t> v;
+    const std::vector<int> ax(axes);
+    for (int mask = 0; mask < (1 << ax.size()); ++mask) {
+      int q[4] = {p[0], p[1], p[2], p[3]};
+      for (std::size_t a = 0; a < ax.size(); ++a) q[ax[a]] += (mask >> a) & 1;
+      v.push_back(at(q));
+    }
+    return key(v);
+  };
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      for (int k = j + 1; k < 4; ++k)
+        for (int b = 0; b < 24; ++b) {
+          int p[4] = {b / 8, (b / 4) % 2, (b / 2) % 2, b % 2};
+          if (p[i] + 1 >= size[i] || p[j] + 1 >= size[j] || p[k] + 1 >= size[k]) continue;
+          std::vector<std::uint32_t> faces;
+          const int ax[3] = {i, j, k};
+          for (int drop = 0; drop < 3; ++drop)
+            for (int side = 0; side < 2; ++side) {
+              int q[4] = {p[0], p[1], p[2], p[3]};
+              q[ax[drop]] += side;
+              faces.push_back(square_id.at(corners(q, {ax[(drop + 1) % 3], ax[(drop + 2) % 3]})));
+            }
+          cube_id[corners(p, {i, j, k})] = static_cast<std::uint32_t>(soup.higher[0].size());
+          soup.higher[0].push_back(faces);
+        }
+  for (int x = 0; x < 2; ++x) {
+    const int p[4] = {x, 0, 0, 0};
+    std::vector<std::uint32_t> cubes;
+    const int axes[4] = {0, 1, 2, 3};
+    for (int drop = 0; drop < 4; ++drop)
+      for (int side = 0; side < 2; ++side) {
+        int q[4] = {p[0], p[1], p[2], p[3]};
+        q[axes[drop]] += side;
+        std::vector<int> rest;
+        for (int a = 0; a < 4; ++a)
+          if (a != drop) rest.push_back(a);
+        cubes.push_back(cube_id.at(corners(q, {rest[0], rest[1], rest[2]})));
+      }
+    soup.higher[1].push_back(cubes);
+  }
+  const Complex model = build_complex(soup);
+  REQUIRE(model.count(4) == 2);
+  const SliceModel compiled(model, SliceModelOptions::unclustered());
+  REQUIRE(compiled.fast());
+  std::mt19937 rng(20261206);
+  Counts counts;
+  for (int round = 0; round < 4; ++round) {
+    INFO("round " << round);
+    const Eigen::VectorXd normal = test::random_unit(rng, 4);
+    const AffineTransform xf = round % 2 == 0 ? AffineTransform::identity(4) : placement(rng, true);
+    const std::vector<double> h = heights(model, normal, xf);
+    check_sweep(compiled, normal, dense(h), xf, counts);
+    check_sweep(compiled, normal, through_vertices(rng, h), xf, counts);
+  }
+  CHECK(counts.layers - counts.general - counts.empty > 2000);
 }

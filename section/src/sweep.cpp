@@ -100,15 +100,18 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   const double* P = m.positions_.data();
   height_.resize(nv);
   layer_bad_.assign(L, 0);
+  const bool events = n == 4 && m.top_ >= 3;
+  if (events) sweep_.vertex_layer.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) {
     const double h = height(pl.nm, P + v * n, n);
     height_[v] = h;
+    if (events) sweep_.vertex_layer[v] = first_above(h);  // below the plane from that layer on
     const double delta = 2.0 * max_tol;
     for (std::uint32_t j = static_cast<std::uint32_t>(std::lower_bound(D, D + L, h - delta) - D);
          j < L && D[j] <= h + delta; ++j)
       if (classify_side(h - D[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
   }
-  if (n == 4 && m.top_ >= 3) {
+  if (events) {
     sweep_events(m, pl, offsets, layers, out, xf, plane);
     return;
   }
@@ -200,19 +203,25 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
 // the step with the smallest tail. A section vertex's index is the rank of its edge among the
 // crossing edges (the kernel numbers them in increasing internal id), a section edge's the rank
 // of its face, so a loop's first step (the smallest tail index) is the step with the smallest
-// tail edge, and an element outside the star of a passed vertex keeps its description. When
-// the plane passes vertices only their edges, the faces on those and the cells on these are
+// tail edge, and an element outside the star of a passed vertex keeps its description.
+//
+// When the plane passes vertices, only their edges that change side, the faces on those (read
+// through bits over the face rows' entries marking the crossing edges, so a face reads only its
+// crossings) and the cells on faces that changed (likewise reading only their cut faces) are
 // recomputed, and the layer writes its buffers from the structure in the kernel's layout (the
-// cut above the cells, the orientation, positions and normals by the kernel's own code); a
-// layer that passes no vertex copies the previous layer's connectivity and normals and
-// computes only its crossing parameters (with the kernel's arithmetic) and positions. Elements
-// the kernel does not decide (a face with other than two crossings, a pinch, an open chain,
-// several loops) are counted; while any is, a layer goes to slice(), as does a layer with a
-// vertex in its ON band or a crossing the kernel leaves to the general path.
+// orientation as finish_fast turns it, each cell's facet normal computed once per sweep by the
+// kernel's arithmetic); a layer that passes no vertex copies the previous layer's connectivity
+// and normals. Every layer computes its crossing parameters and positions (the kernel's
+// arithmetic, term for term). Elements the kernel does not decide (a face with other than two
+// crossings, a pinch, an open chain, several loops) are counted; while any is, a layer goes to
+// slice(), as does a layer with a vertex in its ON band, a crossing the kernel leaves to the
+// general path or a facet nearly parallel to the plane, and every layer of a model with
+// multiplicities.
 
 namespace {
 
 constexpr std::uint32_t kSweepFlip = 0x80000000u;
+constexpr std::uint32_t kSweepSmall = 12;  // loops of up to this many steps chained in registers
 
 // Renews a stamp generation; on wrap every stamp is forgotten.
 std::uint32_t next_stamp(std::uint32_t& stamp,
@@ -233,6 +242,10 @@ inline void put_bit(std::vector<std::uint64_t>& bits, std::uint32_t x, bool on) 
     bits[x >> 6] &= ~b;
 }
 
+inline void flip_bit(std::uint64_t* bits, std::uint32_t x) {
+  bits[x >> 6] ^= std::uint64_t{1} << (x & 63);
+}
+
 // list := the set bits, increasing.
 void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t>& list) {
   list.clear();
@@ -241,28 +254,99 @@ void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t
       list.push_back(static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b)));
 }
 
+// Calls f(x) for every set bit x of [b, e), in increasing order, while f returns true; false
+// when f stopped it.
+template <class F>
+inline bool each_bit(const std::uint64_t* bits, std::uint32_t b, std::uint32_t e, F&& f) {
+  if (b >= e) return true;
+  std::uint32_t w = b >> 6;
+  const std::uint32_t last = (e - 1) >> 6;
+  std::uint64_t word = bits[w] & (~std::uint64_t{0} << (b & 63));
+  for (;;) {
+    if (w == last) word &= ~std::uint64_t{0} >> (63 - ((e - 1) & 63));
+    for (; word; word &= word - 1)
+      if (!f(w * 64 + static_cast<std::uint32_t>(__builtin_ctzll(word)))) return false;
+    if (w == last) return true;
+    word = bits[++w];
+  }
+}
+
+// offsets := the rows of a CSR over `count` keys holding `keys` (offsets[k + 1] - offsets[k]
+// entries for key k); cursor: scratch of count entries, left at each row's end.
+void csr_offsets(std::span<const std::uint32_t> keys, std::size_t count,
+                 std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& cursor) {
+  offsets.assign(count + 1, 0);
+  for (std::uint32_t k : keys) ++offsets[k + 1];
+  for (std::size_t k = 0; k < count; ++k) offsets[k + 1] += offsets[k];
+  cursor.assign(offsets.begin(), offsets.end() - 1);
+}
+
 }  // namespace
+
+void Slicer::sweep_incidences(const SliceModel& m) {
+  SweepState& w = sweep_;
+  if (w.model == m.serial_) return;
+  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Rank& F = m.ranks_[2];
+  const SliceModel::Rank& C = m.ranks_[3];
+  const std::size_t nv = m.positions_.size() / 4;
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
+  const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
+  std::vector<std::uint32_t>& cursor = w.merged;
+  csr_offsets(std::span<const std::uint32_t>(E.ids).first(2 * std::size_t{ne}), nv,
+              w.vertex_edge_offsets, cursor);
+  w.vertex_edges.resize(2 * std::size_t{ne});
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
+    w.vertex_edges[cursor[a]++] = {e, b};
+    w.vertex_edges[cursor[b]++] = {e, a};
+  }
+  // Each face row entry as its edge and the edge's tail (| kSweepFlip: the sign -1), each cell
+  // row entry as its face (| kSweepFlip: the sign +1, the step runs backward).
+  w.face_entries.resize(F.ids.size());
+  for (std::size_t i = 0; i < F.ids.size(); ++i)
+    w.face_entries[i] = {F.ids[i],
+                         E.ids[2 * std::size_t{F.ids[i]}] | (F.signs[i] < 0 ? kSweepFlip : 0u)};
+  w.cell_entries.resize(C.ids.size());
+  for (std::size_t i = 0; i < C.ids.size(); ++i)
+    w.cell_entries[i] = C.ids[i] | (C.signs[i] < 0 ? 0u : kSweepFlip);
+  csr_offsets(F.ids, ne, w.edge_face_offsets, cursor);
+  w.edge_faces.resize(F.ids.size());
+  for (std::uint32_t f = 0; f < nf; ++f)
+    for (std::uint32_t i = F.offsets[f]; i < F.offsets[f + 1]; ++i)
+      w.edge_faces[cursor[F.ids[i]]++] = {f, i};
+  csr_offsets(C.ids, nf, w.face_cell_offsets, cursor);
+  w.face_cells.resize(C.ids.size());
+  for (std::uint32_t c = 0; c < nc; ++c)
+    for (std::uint32_t i = C.offsets[c]; i < C.offsets[c + 1]; ++i)
+      w.face_cells[cursor[C.ids[i]]++] = {c, i};
+  w.model = m.serial_;
+}
 
 std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
   // As the kernel's face pass: exactly two crossings of opposite coefficients (+1 when the
   // edge's tail is below) give the section edge from the -1 crossing to the +1 one.
   SweepState& w = sweep_;
   const SliceModel::Rank& F = m.ranks_[2];
-  const std::uint32_t* edge_ends = m.ranks_[1].ids.data();
+  const SweepSlot* entries = w.face_entries.data();
+  const std::int8_t* side = side_.data();
   std::uint32_t e[2];
   int coef[2];
   int cnt = 0;
-  for (std::uint32_t i = F.offsets[f], end = F.offsets[f + 1]; i < end; ++i) {
-    const std::uint32_t x = F.ids[i];
-    if (!w.edge_in[x]) continue;
-    if (cnt == 2) return 2;
-    coef[cnt] = side_[edge_ends[2 * x]] < 0 ? -F.signs[i] : F.signs[i];
-    e[cnt++] = x;
-  }
+  if (!each_bit(w.face_row_bits.data(), F.offsets[f], F.offsets[f + 1], [&](std::uint32_t i) {
+        if (cnt == 2) return false;
+        const SweepSlot x = entries[i];
+        // (the signs are +-1: the model has unit signs)
+        coef[cnt] = (side[x.index & ~kSweepFlip] < 0) != ((x.index & kSweepFlip) != 0) ? -1 : 1;
+        e[cnt++] = x.element;
+        return true;
+      }))
+    return 2;  // more than two crossings
   if (cnt == 0) return 0;
   if (cnt != 2 || e[0] == e[1] || coef[0] != -coef[1]) return 2;
-  w.face_tail[f] = coef[0] < 0 ? e[0] : e[1];
-  w.face_head[f] = coef[0] < 0 ? e[1] : e[0];
+  w.face_ends[2 * f] = coef[0] < 0 ? e[0] : e[1];
+  w.face_ends[2 * f + 1] = coef[0] < 0 ? e[1] : e[0];
   return 1;
 }
 
@@ -271,40 +355,84 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   // is -1), one leaving each tail, followed from the smallest tail through every step.
   SweepState& w = sweep_;
   const SliceModel::Rank& C = m.ranks_[3];
-  const std::uint32_t st = next_stamp(w.loop_gen, {&w.loop_stamp});
-  std::uint32_t lo = no_index, ns = 0;
-  for (std::uint32_t i = C.offsets[c], end = C.offsets[c + 1]; i < end; ++i) {
-    const std::uint32_t f = C.ids[i];
-    const std::uint8_t fs = w.face_state[f];
-    if (fs == 0) continue;
-    if (fs != 1) return 2;
-    const bool forward = C.signs[i] < 0;
-    const std::uint32_t tail = forward ? w.face_tail[f] : w.face_head[f];
-    const std::uint32_t head = forward ? w.face_head[f] : w.face_tail[f];
-    if (w.loop_stamp[tail] == st) return 2;  // a pinch (or a face listed twice)
-    w.loop_stamp[tail] = st;
-    w.loop_head[tail] = head;
-    w.loop_entry[tail] = forward ? f : f | kSweepFlip;
-    lo = std::min(lo, tail);
+  const std::uint32_t* cell_entries = w.cell_entries.data();
+  std::uint32_t tails[kSweepSmall], heads[kSweepSmall], entries[kSweepSmall];
+  std::uint32_t ns = 0;
+  bool kernel = true;
+  std::vector<std::uint32_t>& more = w.steps;  // the steps beyond kSweepSmall
+  more.clear();
+  each_bit(w.cell_row_bits.data(), C.offsets[c], C.offsets[c + 1], [&](std::uint32_t i) {
+    const std::uint32_t entry = cell_entries[i];
+    const std::uint32_t f = entry & ~kSweepFlip;
+    if (w.face_state[f] != 1) return kernel = false;
+    const std::uint32_t back = entry >> 31;  // the step runs from the face's head
+    const std::uint32_t tail = w.face_ends[2 * f + back];
+    const std::uint32_t head = w.face_ends[2 * f + (back ^ 1u)];
+    if (ns < kSweepSmall) {
+      tails[ns] = tail, heads[ns] = head, entries[ns] = entry;
+    } else {
+      more.insert(more.end(), {tail, head, entry});
+    }
     ++ns;
-  }
+    return true;
+  });
+  if (!kernel) return 2;
   if (ns == 0) return 0;
   if (ns < 3) return 2;
   const std::size_t first = w.loops.size();
-  std::uint32_t cur = lo, k = 0;
-  for (;;) {
-    if (w.loop_stamp[cur] != st) break;  // the chain does not close
-    w.loops.push_back(w.loop_entry[cur]);
-    ++k;
-    cur = w.loop_head[cur];
-    if (cur == lo || k == ns) break;
-  }
-  if (cur != lo || k != ns) {  // open, or several loops
-    w.loops.resize(first);
-    return 2;
+  if (ns <= kSweepSmall) {
+    std::uint32_t lo = 0;
+    for (std::uint32_t i = 1; i < ns; ++i) {
+      for (std::uint32_t j = 0; j < i; ++j)
+        if (tails[j] == tails[i]) return 2;  // a pinch (or a face listed twice)
+      lo = tails[i] < tails[lo] ? i : lo;
+    }
+    const std::uint32_t start = tails[lo];
+    std::uint32_t cur = lo;
+    for (std::uint32_t k = 1;; ++k) {
+      w.loops.push_back(entries[cur]);
+      const std::uint32_t h = heads[cur];
+      if (h == start) {
+        if (k == ns) break;
+        w.loops.resize(first);  // several loops
+        return 2;
+      }
+      std::uint32_t next = kSweepSmall;
+      for (std::uint32_t j = 0; j < ns; ++j) next = tails[j] == h ? j : next;
+      if (next == kSweepSmall || k == ns) {  // the chain does not close
+        w.loops.resize(first);
+        return 2;
+      }
+      cur = next;
+    }
+  } else {
+    const std::uint32_t st = next_stamp(w.loop_gen, {&w.loop_stamp});
+    std::uint32_t lo = no_index;
+    for (std::uint32_t i = 0; i < ns; ++i) {
+      const std::uint32_t tail = i < kSweepSmall ? tails[i] : more[3 * (i - kSweepSmall)];
+      const std::uint32_t head = i < kSweepSmall ? heads[i] : more[3 * (i - kSweepSmall) + 1];
+      const std::uint32_t entry = i < kSweepSmall ? entries[i] : more[3 * (i - kSweepSmall) + 2];
+      if (w.loop_stamp[tail] == st) return 2;  // a pinch (or a face listed twice)
+      w.loop_stamp[tail] = st;
+      w.loop_head[tail] = head;
+      w.loop_entry[tail] = entry;
+      lo = std::min(lo, tail);
+    }
+    std::uint32_t cur = lo, k = 0;
+    for (;;) {
+      if (w.loop_stamp[cur] != st) break;  // the chain does not close
+      w.loops.push_back(w.loop_entry[cur]);
+      ++k;
+      cur = w.loop_head[cur];
+      if (cur == lo || k == ns) break;
+    }
+    if (cur != lo || k != ns) {  // open, or several loops
+      w.loops.resize(first);
+      return 2;
+    }
   }
   w.cell_loop[c] = static_cast<std::uint32_t>(first);
-  w.cell_size[c] = k;
+  w.cell_size[c] = ns;
   return 1;
 }
 
@@ -316,11 +444,25 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   const std::uint32_t nf = static_cast<std::uint32_t>(m.ranks_[2].offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
-  const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_e, &w.stamp_f, &w.stamp_c});
-  // Rank 1: the edges at the moved vertices. The cut elements of each rank are kept as bits
-  // (listed in increasing order after a change).
-  w.near_e.clear();
-  bool changed = rebuild;
+  const std::int8_t* side = side_.data();
+  const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_f, &w.stamp_c});
+  const SweepSlot* edge_faces = w.edge_faces.data();
+  const std::uint32_t* edge_face_offsets = w.edge_face_offsets.data();
+  const SweepSlot* face_cells = w.face_cells.data();
+  const std::uint32_t* face_cell_offsets = w.face_cell_offsets.data();
+  auto cell_pass = [&](std::uint32_t c) {
+    const std::uint8_t was = w.cell_state[c];
+    if (was == 1) w.live -= w.cell_size[c];
+    const std::uint8_t now = sweep_cell(m, c);
+    if (now == 1) w.live += w.cell_size[c];
+    w.bad += (now == 2) - (was == 2);
+    w.cell_state[c] = now;
+    if ((now == 1) != (was == 1)) {
+      put_bit(w.cell_bits, c, now == 1);
+      return true;
+    }
+    return false;
+  };
   if (rebuild) {
     w.edge_in.assign(ne, 0);
     w.face_state.assign(nf, 0);
@@ -328,66 +470,82 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
     w.edge_bits.assign((ne + 63) / 64, 0);
     w.face_bits.assign((nf + 63) / 64, 0);
     w.cell_bits.assign((nc + 63) / 64, 0);
+    w.face_row_bits.assign((m.ranks_[2].ids.size() + 63) / 64, 0);
+    w.cell_row_bits.assign((m.ranks_[3].ids.size() + 63) / 64, 0);
+    std::uint64_t* face_row = w.face_row_bits.data();
     w.loops.clear();
     w.live = 0;
     w.bad = 0;
     for (std::uint32_t e = 0; e < ne; ++e)
-      if (side_[edge_ends[2 * e]] != side_[edge_ends[2 * e + 1]]) {
+      if (side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]]) {
         w.edge_in[e] = 1;
-        w.near_e.push_back(e);
         put_bit(w.edge_bits, e, true);
+        for (std::uint32_t i = edge_face_offsets[e]; i < edge_face_offsets[e + 1]; ++i)
+          flip_bit(face_row, edge_faces[i].index);
       }
-  } else {
-    for (std::uint32_t v : moved)
-      for (std::uint32_t i = w.vertex_edge_offsets[v]; i < w.vertex_edge_offsets[v + 1]; ++i) {
-        const std::uint32_t e = w.vertex_edges[i];
-        if (w.stamp_e[e] == st) continue;
-        w.stamp_e[e] = st;
-        w.near_e.push_back(e);
-        const std::uint8_t in = side_[edge_ends[2 * e]] != side_[edge_ends[2 * e + 1]];
-        if (in != w.edge_in[e]) put_bit(w.edge_bits, e, in), changed = true;
-        w.edge_in[e] = in;
-      }
-  }
-  if (changed) list_bits(w.edge_bits, w.edges);
-  // Rank 2: the faces on those edges.
-  w.near_f.clear();
-  changed = rebuild;
-  const std::uint32_t* edge_up = m.up_offsets_[1].data();
-  const std::uint32_t* edge_up_ids = m.up_ids_[1].data();
-  for (std::uint32_t e : w.near_e)
-    for (std::uint32_t i = edge_up[e]; i < edge_up[e + 1]; ++i) {
-      const std::uint32_t f = edge_up_ids[i] & SliceModel::kUpIndex;
-      if (w.stamp_f[f] == st) continue;
-      w.stamp_f[f] = st;
-      w.near_f.push_back(f);
-      const std::uint8_t was = w.face_state[f], now = sweep_face(m, f);
-      w.bad += (now == 2) - (was == 2);
-      if ((now == 1) != (was == 1)) put_bit(w.face_bits, f, now == 1), changed = true;
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const std::uint8_t now = sweep_face(m, f);
       w.face_state[f] = now;
+      w.bad += now == 2;
+      if (now == 1) put_bit(w.face_bits, f, true);
+      if (now != 0)
+        for (std::uint32_t i = face_cell_offsets[f]; i < face_cell_offsets[f + 1]; ++i)
+          flip_bit(w.cell_row_bits.data(), face_cells[i].index);
     }
-  if (changed) list_bits(w.face_bits, w.faces);
-  // Rank 3: the cells on those faces (after every face is renewed).
-  w.near_c.clear();
-  const std::uint32_t* face_up = m.up_offsets_[2].data();
-  const std::uint32_t* face_up_ids = m.up_ids_[2].data();
-  for (std::uint32_t f : w.near_f)
-    for (std::uint32_t i = face_up[f]; i < face_up[f + 1]; ++i) {
-      const std::uint32_t c = face_up_ids[i] & SliceModel::kUpIndex;
-      if (w.stamp_c[c] == st) continue;
-      w.stamp_c[c] = st;
-      w.near_c.push_back(c);
-    }
-  changed = rebuild;
-  for (std::uint32_t c : w.near_c) {
-    const std::uint8_t was = w.cell_state[c];
-    if (was == 1) w.live -= w.cell_size[c];
-    const std::uint8_t now = sweep_cell(m, c);
-    if (now == 1) w.live += w.cell_size[c];
-    w.bad += (now == 2) - (was == 2);
-    if ((now == 1) != (was == 1)) put_bit(w.cell_bits, c, now == 1), changed = true;
-    w.cell_state[c] = now;
+    for (std::uint32_t c = 0; c < nc; ++c) cell_pass(c);
+    list_bits(w.edge_bits, w.edges);
+    list_bits(w.face_bits, w.faces);
+    list_bits(w.cell_bits, w.cells);
+    return;
   }
+  // Rank 1: the edges at the moved vertices that changed side; the faces on those.
+  std::uint64_t* face_row = w.face_row_bits.data();
+  w.near_f.clear();
+  bool changed = false;
+  for (std::uint32_t v : moved)
+    for (std::uint32_t i = w.vertex_edge_offsets[v]; i < w.vertex_edge_offsets[v + 1]; ++i) {
+      const std::uint32_t e = w.vertex_edges[i].element;
+      const std::uint8_t in = side[v] != side[w.vertex_edges[i].index];
+      if (in == w.edge_in[e]) continue;  // (both ends moved: it crosses neither time)
+      w.edge_in[e] = in;
+      put_bit(w.edge_bits, e, in);
+      changed = true;
+      for (std::uint32_t j = edge_face_offsets[e]; j < edge_face_offsets[e + 1]; ++j) {
+        const SweepSlot s = edge_faces[j];
+        flip_bit(face_row, s.index);
+        if (w.stamp_f[s.element] != st) {
+          w.stamp_f[s.element] = st;
+          w.near_f.push_back(s.element);
+        }
+      }
+    }
+  if (changed) list_bits(w.edge_bits, w.edges);
+  // Rank 2: those faces; the cells on the faces that changed.
+  w.near_c.clear();
+  changed = false;
+  for (std::uint32_t f : w.near_f) {
+    const std::uint8_t was = w.face_state[f];
+    const std::uint32_t tail = w.face_ends[2 * f], head = w.face_ends[2 * f + 1];
+    const std::uint8_t now = sweep_face(m, f);
+    if (now == was && (now != 1 || (w.face_ends[2 * f] == tail && w.face_ends[2 * f + 1] == head)))
+      continue;
+    w.face_state[f] = now;
+    w.bad += (now == 2) - (was == 2);
+    if ((now == 1) != (was == 1)) put_bit(w.face_bits, f, now == 1), changed = true;
+    const bool row = (now != 0) != (was != 0);
+    for (std::uint32_t j = face_cell_offsets[f]; j < face_cell_offsets[f + 1]; ++j) {
+      const SweepSlot s = face_cells[j];
+      if (row) flip_bit(w.cell_row_bits.data(), s.index);
+      if (w.stamp_c[s.element] != st) {
+        w.stamp_c[s.element] = st;
+        w.near_c.push_back(s.element);
+      }
+    }
+  }
+  if (changed) list_bits(w.face_bits, w.faces);
+  // Rank 3: those cells (after every face is renewed).
+  changed = false;
+  for (std::uint32_t c : w.near_c) changed |= cell_pass(c);
   if (changed) list_bits(w.cell_bits, w.cells);
   // Recomputed cells appended their loops: compact when the dead ones dominate.
   if (w.loops.size() > 4 * w.live + 4096) {
@@ -401,11 +559,47 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   }
 }
 
+void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
+  // write_geometry's facet normal of every cell (term for term): the model facet's normal
+  // through A^{-T}, projected, unit; the fourth entry 0 when nearly parallel to the plane.
+  SweepState& w = sweep_;
+  const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
+  w.cell_normal.resize(4 * std::size_t{nc});
+  const bool copied = !m.facet_normals_.empty() || m.ranks_[3].model_id.empty();
+  const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
+  const std::uint32_t* fid = copied ? nullptr : m.ranks_[3].model_id.data();
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const double* nf = fn + 4 * std::size_t{fid ? fid[c] : c};
+    double* y = &w.cell_normal[4 * std::size_t{c}];
+    double len2 = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      double sum = 0.0;
+      for (int j = 0; j < 4; ++j) sum += pl.N[r * 4 + j] * nf[j];
+      y[r] = sum;
+      len2 += sum * sum;
+    }
+    const double len = std::sqrt(len2);
+    y[3] = len < tol::near_parallel_normal ? 0.0 : 1.0;
+    for (int r = 0; r < 3; ++r) y[r] = y[r] / len;
+  }
+}
+
 void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
                           std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
                           const AffineTransform& xf, const Hyperplane& plane) {
   SweepState& w = sweep_;
   const std::size_t L = layers.size();
+  bool restore = false;  // slice() wrote its own sides
+  auto single = [&](std::uint32_t k) {
+    slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
+    restore = true;
+  };
+  if (!m.unit_signs_ || m.positions_.size() / 4 >= kSweepFlip) {
+    // Multiplicities: the generic gathering decides every layer (and vertex ids must leave
+    // the top bit free for the face entries' sign).
+    for (auto k : layers) single(k);
+    return;
+  }
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
@@ -413,45 +607,45 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
-  bool valid = false;       // the structure describes the sides of the last layer it built
-  std::uint32_t below = 0;  // vertices by_height[0, below) are below that layer
-  bool restore = false;     // slice() wrote its own sides
-  constexpr std::uint32_t kNoLayer = 0xffffffffu;
-  std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
-  auto single = [&](std::uint32_t k) {
-    slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
-    restore = true;
-  };
-  // The edges at each vertex, the vertices by height.
-  w.vertex_edge_offsets.assign(nv + 1, 0);
-  for (std::uint32_t i = 0; i < 2 * ne; ++i) ++w.vertex_edge_offsets[E.ids[i] + 1];
-  for (std::uint32_t v = 0; v < nv; ++v) w.vertex_edge_offsets[v + 1] += w.vertex_edge_offsets[v];
-  w.vertex_edges.resize(2 * std::size_t{ne});
-  w.merged.assign(w.vertex_edge_offsets.begin(), w.vertex_edge_offsets.end() - 1);
-  for (std::uint32_t e = 0; e < ne; ++e) {
-    w.vertex_edges[w.merged[E.ids[2 * e]]++] = e;
-    w.vertex_edges[w.merged[E.ids[2 * e + 1]]++] = e;
+  sweep_incidences(m);
+  // The vertices grouped by the first layer they are below: the vertices below layer j are
+  // by_layer[0, layer_vertex_offsets[j + 1]).
+  {
+    std::vector<std::uint32_t>& cursor = w.merged;
+    csr_offsets(std::span<const std::uint32_t>(w.vertex_layer).first(nv), L + 1,
+                w.layer_vertex_offsets, cursor);
+    w.by_layer.resize(nv);
+    for (std::uint32_t v = 0; v < nv; ++v) w.by_layer[cursor[w.vertex_layer[v]]++] = v;
   }
-  w.by_height.resize(nv);
-  std::iota(w.by_height.begin(), w.by_height.end(), 0u);
-  std::sort(w.by_height.begin(), w.by_height.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return height_[a] < height_[b] || (height_[a] == height_[b] && a < b);
-  });
-  for (auto* a : {&w.stamp_e, &w.loop_stamp, &w.loop_head, &w.loop_entry, &w.vertex_index})
+  for (auto* a : {&w.loop_stamp, &w.loop_head, &w.loop_entry, &w.vertex_index})
     if (a->size() < ne) a->resize(ne, 0);
-  for (auto* a : {&w.stamp_f, &w.face_tail, &w.face_head, &w.edge_index})
+  for (auto* a : {&w.stamp_f, &w.edge_index})
     if (a->size() < nf) a->resize(nf, 0);
+  if (w.face_ends.size() < 2 * std::size_t{nf}) w.face_ends.resize(2 * std::size_t{nf});
   for (auto* a : {&w.stamp_c, &w.cell_loop, &w.cell_size})
     if (a->size() < nc) a->resize(nc, 0);
+  sweep_normals(m, pl);  // (they depend on the normal and the placement only)
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
+  bool valid = false;       // the structure describes the sides of the last layer it built
+  std::uint32_t below = 0;  // vertices by_layer[0, below) are below that layer
+  constexpr std::uint32_t kNoLayer = 0xffffffffu;
+  std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
+  const double* P = m.positions_.data();
   const double weld = m.weld_;
   const double* edge_length = m.edge_length_.data();
   const std::uint32_t* edge_ends = E.ids.data();
+  const std::uint32_t* edge_id = E.model_id.empty() ? nullptr : E.model_id.data();
+  const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();
+  const std::uint32_t* cell_id = C.model_id.empty() ? nullptr : C.model_id.data();
   const bool above = m.top_ > 3;
-  const bool chains_above = above && !m.single_solid_;
+  // The tables above the polygons: written here for a single solid (and none), else by
+  // cut_upper from the polygons' images.
+  const bool direct = !above || m.single_solid_;
+  const std::size_t tables = above ? 3 : 2;
   std::vector<std::uint32_t>& moved = touched_;  // (scratch: the kernel's cluster list is unused)
+  const std::uint32_t* lv = w.layer_vertex_offsets.data();
   for (std::size_t j = 0; j < L; ++j) {
     const std::uint32_t k = layers[j];
     if (layer_bad_[j]) {
@@ -460,24 +654,38 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     }
     const double d = D[j];
     // Without ON vertices the side of v is the sign of h_v - d (a rounded difference has the
-    // exact difference's sign), so the vertices passed since the structure's layer are those
-    // with heights in between.
-    std::uint32_t to = below;
-    while (to < nv && H[w.by_height[to]] < d) ++to;
+    // exact difference's sign): below exactly from the first layer above h_v on.
+    const std::uint32_t to = lv[j + 1];
     const bool rebuild = !valid || 4 * std::size_t{to - below} > nv;
     if (restore && !rebuild) {  // the structure's sides again
-      for (std::uint32_t i = 0; i < nv; ++i) side_[w.by_height[i]] = i < below ? -1 : 1;
+      for (std::uint32_t i = 0; i < nv; ++i) side_[w.by_layer[i]] = i < below ? -1 : 1;
     }
     restore = false;
     if (rebuild) {
       for (std::uint32_t v = 0; v < nv; ++v) side_[v] = H[v] - d < 0.0 ? -1 : 1;
     } else {
-      moved.assign(w.by_height.begin() + below, w.by_height.begin() + to);
+      moved.assign(w.by_layer.begin() + below, w.by_layer.begin() + to);
       for (std::uint32_t v : moved) side_[v] = -1;
     }
     if (rebuild || to != below) {
       sweep_update(m, moved, rebuild);
       last = kNoLayer;
+    }
+    if (j + 1 < L) {
+      // The stars of the next layer's vertices, fetched while this layer is written (on a
+      // large model they lie anywhere in memory).
+      const std::uint32_t* vo = w.vertex_edge_offsets.data();
+      const SweepSlot* ve = w.vertex_edges.data();
+      const std::uint32_t* eo = w.edge_face_offsets.data();
+      const SweepSlot* ef = w.edge_faces.data();
+      for (std::uint32_t i = to; i < lv[j + 2]; ++i) {
+        const std::uint32_t v = w.by_layer[i];
+        for (std::uint32_t q = vo[v]; q < vo[v + 1]; ++q) {
+          const std::uint32_t e = ve[q].element;
+          __builtin_prefetch(ef + eo[e]);
+          __builtin_prefetch(w.edge_in.data() + e);
+        }
+      }
     }
     valid = true;
     const bool same = !rebuild && to == below && last != kNoLayer;
@@ -495,28 +703,49 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       last = kNoLayer;
       continue;
     }
-    // Rank 1: a section vertex per crossing edge, t as the kernel computes it.
+    // Rank 1: a section vertex per crossing edge, t as the kernel computes it, and its position
+    // as write_geometry computes it: y = M ((1 - t) a + t b) + c.
     const std::uint32_t nx = static_cast<std::uint32_t>(w.edges.size());
     o.vertex_source.resize(nx);
-    VertexSource* vs = o.vertex_source.data();
-    const std::uint32_t* xe = w.edges.data();
-    std::uint32_t* vertex_index = w.vertex_index.data();
-    bool ok = true;
-    for (std::uint32_t i = 0; i < nx; ++i) {
-      const std::uint32_t e = xe[i];
-      const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
-      const double sa = H[a] - d, sb = H[b] - d;
-      const double t = sa / (sa - sb);
-      if (needs_general(sa, sb, t, edge_length[e], near_parallel_, weld)) {
-        ok = false;
-        break;
+    o.coords.resize(3 * std::size_t{nx});
+    {
+      VertexSource* vs = o.vertex_source.data();
+      double* y = o.coords.data();
+      const std::uint32_t* xe = w.edges.data();
+      std::uint32_t* vertex_index = w.vertex_index.data();
+      const double* M = pl.M;
+      const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
+      const double near_parallel = near_parallel_;
+      bool ok = true;
+      for (std::uint32_t i = 0; i < nx; ++i) {
+        const std::uint32_t e = xe[i];
+        const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
+        const double sa = H[a] - d, sb = H[b] - d;
+        const double t = sa / (sa - sb);
+        if (needs_general(sa, sb, t, edge_length[e], near_parallel, weld)) {
+          ok = false;
+          break;
+        }
+        vs[i] = {edge_id ? edge_id[e] : e, 1, t};
+        vertex_index[e] = i;
+        const double* pa = P + 4 * std::size_t{a};
+        const double* pb = P + 4 * std::size_t{b};
+        double x[4];
+        for (int q = 0; q < 4; ++q) x[q] = (1.0 - t) * pa[q] + t * pb[q];
+        double y0 = c0, y1 = c1, y2 = c2;
+        for (int q = 0; q < 4; ++q) {
+          y0 += M[q] * x[q];
+          y1 += M[4 + q] * x[q];
+          y2 += M[8 + q] * x[q];
+        }
+        y[3 * i] = y0;
+        y[3 * i + 1] = y1;
+        y[3 * i + 2] = y2;
       }
-      vs[i] = {E.model_id.empty() ? e : E.model_id[e], 1, t};
-      vertex_index[e] = i;
-    }
-    if (!ok) {
-      single(k);  // a crossing within the weld distance, or nearly parallel
-      continue;
+      if (!ok) {
+        single(k);  // a crossing within the weld distance, or nearly parallel
+        continue;
+      }
     }
     o.dim = 3;
     o.plane.normal = pl.plane->normal;
@@ -526,21 +755,22 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     o.reused_topology = false;
     o.cache_valid_ = false;
     if (same) {
-      // No vertex passed since layer `last`: its connectivity and its facet normals (they
-      // depend on the normal alone), new positions.
+      // No vertex passed since layer `last`: its connectivity and its facet normals.
       const SliceBuffers& p = out[last];
       o.boundary = p.boundary;
       o.source = p.source;
-      write_geometry(m, pl, o, w.edges, {});  // (no facets: nothing can fail)
       o.facet_normals = p.facet_normals;
       ++fast_count_;
       continue;
     }
-    prepare(m);
-    o.set_ranks(m.top_ > 3 ? 3 : 2);  // as start_buffers
-    section_edge_.assign(w.edges.begin(), w.edges.end());
-    o.coords.clear();
-    o.facet_normals.clear();
+    if (direct) {
+      resize_keeping(o.boundary, o.spare_tables_, tables);
+      resize_keeping(o.source, o.spare_sources_, tables + 1);
+      o.source[0].clear();
+    } else {
+      prepare(m);
+      o.set_ranks(3);  // as start_buffers (cut_upper appends the solids)
+    }
     // Rank 2: a section edge per cut face.
     const std::uint32_t nse = static_cast<std::uint32_t>(w.faces.size());
     {
@@ -555,24 +785,23 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       std::uint32_t* offs = edges.offsets.data();
       std::uint32_t* src = src_store.data();
       const std::uint32_t* faces = w.faces.data();
-      const std::uint32_t* tail = w.face_tail.data();
-      const std::uint32_t* head = w.face_head.data();
+      const std::uint32_t* face_ends = w.face_ends.data();
+      const std::uint32_t* vertex_index = w.vertex_index.data();
       std::uint32_t* edge_index = w.edge_index.data();
-      const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();
       for (std::uint32_t i = 0; i < nse; ++i) {
         const std::uint32_t f = faces[i];
-        ids[2 * i] = vertex_index[tail[f]];
-        ids[2 * i + 1] = vertex_index[head[f]];
-        signs[2 * i] = -1;
-        signs[2 * i + 1] = 1;
-        offs[i] = 2 * i;
+        ids[2 * i] = vertex_index[face_ends[2 * f]];
+        ids[2 * i + 1] = vertex_index[face_ends[2 * f + 1]];
         src[i] = face_id ? face_id[f] : f;
         edge_index[f] = i;
       }
-      offs[nse] = 2 * nse;
+      for (std::uint32_t i = 0; i < nse; ++i) signs[2 * i] = -1, signs[2 * i + 1] = 1;
+      for (std::uint32_t i = 0; i <= nse; ++i) offs[i] = 2 * i;
     }
-    // Rank 3: a polygon per cut cell.
+    // Rank 3: a polygon per cut cell, turned as finish_fast turns it (a reflecting placement
+    // reverses each loop), with its facet normal.
     const std::uint32_t npoly = static_cast<std::uint32_t>(w.cells.size());
+    bool ok = true;
     {
       const std::uint32_t* cells = w.cells.data();
       const std::uint32_t* cell_size = w.cell_size.data();
@@ -587,38 +816,76 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       polys.offsets.resize(std::size_t{npoly} + 1);
       std::vector<std::uint32_t>& src_store = o.source[2];
       src_store.resize(npoly);
-      facet_internal_.resize(npoly);
       std::uint32_t* ids = polys.ids.data();
       std::int8_t* signs = polys.signs.data();
       std::uint32_t* offs = polys.offsets.data();
       std::uint32_t* src = src_store.data();
-      std::uint32_t* facet = facet_internal_.data();
-      const std::uint32_t* cell_id = C.model_id.empty() ? nullptr : C.model_id.data();
+      const bool reverse = direct && pl.reflect;
       std::uint32_t at = 0;
       offs[0] = 0;
       for (std::uint32_t p = 0; p < npoly; ++p) {
         const std::uint32_t c = cells[p];
         const std::uint32_t* loop = loops + cell_loop[c];
-        for (std::uint32_t i = 0, cnt = cell_size[c]; i < cnt; ++i) {
-          ids[at + i] = edge_index[loop[i] & ~kSweepFlip];
-          signs[at + i] = (loop[i] & kSweepFlip) ? -1 : 1;
+        const std::uint32_t cnt = cell_size[c];
+        if (!reverse) {
+          for (std::uint32_t i = 0; i < cnt; ++i) {
+            ids[at + i] = edge_index[loop[i] & ~kSweepFlip];
+            signs[at + i] = (loop[i] & kSweepFlip) ? -1 : 1;
+          }
+        } else {
+          for (std::uint32_t i = 0; i < cnt; ++i) {
+            ids[at + cnt - 1 - i] = edge_index[loop[i] & ~kSweepFlip];
+            signs[at + cnt - 1 - i] = (loop[i] & kSweepFlip) ? 1 : -1;
+          }
         }
-        at += cell_size[c];
+        at += cnt;
         offs[p + 1] = at;
         src[p] = cell_id ? cell_id[c] : c;
-        facet[p] = c;
       }
-      if (above)
+      if (direct) {
+        o.facet_normals.resize(3 * std::size_t{npoly});
+        double* normals = o.facet_normals.data();
+        const double* cell_normal = w.cell_normal.data();
+        double parallel = 1.0;
         for (std::uint32_t p = 0; p < npoly; ++p) {
-          const std::uint32_t c = cells[p];
-          if (chains_above) {
-            images_[3][c] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
-            terms_[3].push_back({p, 1});
-          }
-          mark_parents(m, 3, c);
+          const double* y = cell_normal + 4 * std::size_t{cells[p]};
+          normals[3 * p] = y[0];
+          normals[3 * p + 1] = y[1];
+          normals[3 * p + 2] = y[2];
+          parallel *= y[3];
         }
+        ok = parallel != 0.0;
+      } else {
+        section_edge_.assign(w.edges.begin(), w.edges.end());
+        facet_internal_.assign(cells, cells + npoly);
+        for (std::uint32_t p = 0; p < npoly; ++p) {  // several solids: their chains
+          images_[3][cells[p]] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
+          terms_[3].push_back({p, 1});
+          mark_parents(m, 3, cells[p]);
+        }
+      }
     }
     kernel_count_ += nse + npoly;
+    if (direct) {
+      if (!ok) {
+        single(k);  // a facet nearly parallel to the plane: the general path
+        continue;
+      }
+      if (above) {
+        // The single solid: every polygon, with +1 (as cut_upper and finish_fast write it).
+        Incidence::Storage solids = o.boundary[2].storage();
+        const std::uint32_t rows = npoly > 0 ? 1 : 0;
+        solids.offsets.assign({0u, npoly});
+        solids.offsets.resize(rows + 1);
+        solids.ids.resize(npoly);
+        std::iota(solids.ids.begin(), solids.ids.end(), 0u);
+        solids.signs.assign(npoly, 1);
+        o.source[3].assign(rows, m.ranks_[4].model_id.empty() ? 0u : m.ranks_[4].model_id[0]);
+      }
+      ++fast_count_;
+      last = k;
+      continue;
+    }
     if (cut_upper(m, pl, o, 4)) {
       ++fast_count_;
       last = k;

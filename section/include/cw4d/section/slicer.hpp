@@ -325,16 +325,33 @@ class Slicer {
   // The output-sensitive sweep in R^4 (src/sweep.cpp): the section's structure in model terms
   // (crossing edges, each cut face's two crossing edges, each cut cell's loop of faces), kept
   // from layer to layer and updated only in the star of each vertex the plane passes.
+  struct SweepSlot {
+    std::uint32_t element, index;
+  };
   struct SweepState {
-    std::vector<std::uint32_t> vertex_edge_offsets, vertex_edges, by_height;
+    // The model's incidences, built once per model (serial): the (edge, other end) at each
+    // vertex, the (face, row entry) of each edge, the (cell, row entry) of each face, and the
+    // rows' entries in the form the passes read (see sweep_incidences).
+    std::uint64_t model = 0;
+    std::vector<std::uint32_t> vertex_edge_offsets, edge_face_offsets, face_cell_offsets;
+    std::vector<SweepSlot> vertex_edges, edge_faces, face_cells, face_entries;
+    std::vector<std::uint32_t> cell_entries;
+    // Per sweep: the layer (in the thread's offset order) from which each vertex is below the
+    // plane, the vertices grouped by that layer.
+    std::vector<std::uint32_t> vertex_layer, layer_vertex_offsets, by_layer;
     std::vector<std::uint8_t> edge_in, face_state, cell_state;  // 0 uncut, 1 cut, 2 not kernel
-    std::vector<std::uint32_t> edges, faces, cells;             // the cut ones, ascending
-    std::vector<std::uint32_t> face_tail, face_head, cell_loop, cell_size, loops;
-    std::vector<std::uint32_t> stamp_e, stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
-    std::vector<std::uint32_t> near_e, near_f, near_c, merged;
+    // Row entries (bits over the face rows' and cell rows' entries) whose edge crosses, whose
+    // face is cut: a face or cell reads only those.
+    std::vector<std::uint64_t> face_row_bits, cell_row_bits;
+    std::vector<std::uint32_t> edges, faces, cells;                     // the cut ones, ascending
+    std::vector<std::uint32_t> face_ends, cell_loop, cell_size, loops;  // face_ends: tail, head
+    std::vector<std::uint32_t> stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
+    std::vector<std::uint32_t> near_f, near_c, merged, steps;
     std::vector<std::uint32_t> vertex_index, edge_index;
     std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones
-    std::size_t live = 0;                                        // entries of the cut cells' loops
+    // Each cell's section facet normal for the sweep's normal, and 1 (0: nearly parallel).
+    std::vector<double> cell_normal;
+    std::size_t live = 0;  // entries of the cut cells' loops
     std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
   };
   SweepState sweep_;
@@ -351,6 +368,8 @@ class Slicer {
                     SliceBuffers& out);
   std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
   std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
+  void sweep_incidences(const SliceModel& m);
+  void sweep_normals(const SliceModel& m, const Placement& pl);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
   FallbackReason reason_ = FallbackReason::None;
   bool fail(FallbackReason r) {
