@@ -316,7 +316,7 @@ void SliceModel::build_tet_tables() {
   for (std::size_t x = 0; x < nc; ++x) {
     const std::uint32_t b = C.offsets[x];
     if (C.offsets[x + 1] - b != 4) return;  // (tables only when every cell is a tetrahedron)
-    std::uint32_t v[12];
+    std::uint32_t v[24];  // both ends of the three edges of each of the four faces
     int nv = 0;
     for (int i = 0; i < 4; ++i) {
       const std::uint32_t f = C.ids[b + i];
