@@ -330,10 +330,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
-        if (++stamp_ == 0) {  // wrapped: forget every stamp
-          for (std::size_t i = 0; i < loop_step_.size(); ++i) loop_step_[i].stamp = 0;
-          stamp_ = 1;
-        }
+        if (++stamp_ == 0) forget_stamps();  // wrapped
         const std::uint32_t st = stamp_;
         // Every face without a branch per face: an uncut face writes its (dropped) step to the
         // spare slot past the section's vertices; a cell of more than 16 faces, mostly uncut,

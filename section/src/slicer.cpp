@@ -24,6 +24,15 @@
 
 namespace cw4d {
 
+// The kernel's loop steps and the generic gathering's vertex and edge stamps share stamp_: when it
+// wraps, every stamp of both is cleared, so no old stamp can equal a new one.
+void Slicer::forget_stamps() {
+  for (auto& step : loop_step_) step.stamp = 0;
+  std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
+  std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
+  stamp_ = 1;
+}
+
 // --- slicing --------------------------------------------------------------------------------
 
 void Slicer::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
@@ -456,11 +465,7 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
     };
     const std::uint32_t* edge_ends = out_edges.all_ids().data();
     auto cell_kernel = [&](std::uint32_t x) -> int {
-      if (++stamp_ == 0) {  // wrapped: forget every stamp
-        std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
-        std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
-        stamp_ = 1;
-      }
+      if (++stamp_ == 0) forget_stamps();  // wrapped
       const std::uint32_t st = stamp_;
       steps_.clear();
       std::uint32_t lo = no_index, start = 0;

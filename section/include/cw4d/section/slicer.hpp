@@ -394,6 +394,8 @@ class Slicer {
   std::vector<std::uint32_t> crossing_ids_, cut_pos_;  // cut_pos_: a large cell's cut faces
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
+  void
+  forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
 
 /// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every
