@@ -273,7 +273,9 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
 // one pass writes the triangles through the 16-case table, turned by the table's combinatorial
 // orientation (the tetrahedra are positively oriented with their cell's normal, so no geometric
 // test is needed).
-void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
+// False (nothing trusted) when the index does not match the tets it reads: an edge id out of
+// range, an edge whose ends are not the tetrahedron's corners, or a block vertex out of range.
+bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
                  TetSliceMesh& out) {
   const std::array<std::uint32_t, 2>* edges = index.edges.data();
   const std::size_t ne = index.edges.size();
@@ -301,9 +303,13 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const std::uint32_t* bf = index.block_first.data();
     const std::uint32_t* bvf = index.block_vertex_first.data();
     const std::uint32_t* bv = index.block_vertices.data();
+    const std::size_t nbv = index.block_vertices.size();
+    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size());
     for (std::size_t b = 0; b < nblocks; ++b) {
       unsigned any = 0, all = 1;
+      if (bvf[b] > bvf[b + 1] || bvf[b + 1] > nbv) return false;
       for (std::uint32_t j = bvf[b]; j < bvf[b + 1]; ++j) {
+        if (bv[j] >= nvtx) return false;
         any |= up[bv[j]];
         all &= up[bv[j]];
       }
@@ -320,15 +326,10 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   out.tet.resize(tris + 1);
   out.cell.resize(tris + 1);
   if (tris == 0) {
-    out.triangles.clear();
-    out.normals.clear();
-    out.uvw.clear();
-    out.tet.clear();
-    out.cell.clear();
-    out.positions.clear();
-    out.vertex_source.clear();
-    return;
+    out.clear();
+    return true;
   }
+  if (ne == 0) return false;
   // Output vertices, one per crossing edge, without a load that waits for a store of the
   // previous tetrahedron (neighbours share edges, and a first-sight test would chain them through
   // store forwarding): every corner slot j = 4 i + k claims its edge (owner[e] = j, the last
@@ -351,17 +352,25 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
+  bool stale = false;  // the index checked on what this slice reads of it (no branch)
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
     const IndexedCase& ic = table[cut[i] & 15u];
     const auto& te = tet_edges[t];
+    const auto& tv = tets[t];
     cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
     for (std::size_t k = 0; k < 4; ++k) {
-      const std::uint32_t e = te[ic.local[k]];
+      const auto& corners = TetMesh::kTetEdgeCorners[ic.local[k]];
+      const std::uint32_t a = tv[static_cast<std::size_t>(corners[0])];
+      const std::uint32_t b = tv[static_cast<std::size_t>(corners[1])];
+      const std::uint32_t e0 = te[ic.local[k]];
+      const std::uint32_t e = e0 < ne ? e0 : 0u;
+      stale |= (e0 >= ne) | (edges[e][0] != std::min(a, b)) | (edges[e][1] != std::max(a, b));
       slot_edge[4 * i + k] = e;
       owner[e] = static_cast<std::uint32_t>(4 * i + k);
     }
   }
+  if (stale) return false;
   std::uint32_t nvert = 0;
   std::size_t ncells = 0;
   for (std::size_t j = 0; j < nslot; ++j) {
@@ -468,6 +477,7 @@ void cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   out.uvw.resize(9 * tris);
   out.tet.resize(tris);
   out.cell.resize(tris);
+  return true;
 }
 
 // The cut when no vertex is on the plane (every crossing is interior to its edge, no triangle
@@ -798,9 +808,8 @@ const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
   if (mesh.tet_edges.size() == mesh.tets.size() && !mesh.block_first.empty() &&
       mesh.block_first.back() == mesh.tets.size() &&
       mesh.block_vertex_first.size() == mesh.block_first.size()) {
-    // Only the sizes are checked here (the whole check costs as much as the slice); a mesh whose
-    // tets were edited in place without index_tet_edges is caught in checked builds.
-    assert(mesh.has_edge_index());
+    // Only the sizes are checked here (the whole check costs as much as the slice); the cut
+    // checks every index entry it reads and comes back for a copy's index when one is stale.
     return mesh;
   }
   if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||
@@ -891,13 +900,7 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
   if (plane.dim() == 4) set_frame(out.frame, plane);
   const Prepared pr = prepare(mesh, plane, xf, out.frame, sc);
   if (!pr.any_on && (!pr.any_pos || !pr.any_neg)) {  // the plane misses the model
-    out.positions.clear();
-    out.vertex_source.clear();
-    out.triangles.clear();
-    out.normals.clear();
-    out.uvw.clear();
-    out.tet.clear();
-    out.cell.clear();
+    out.clear();
     return;
   }
   if (pr.any_on) {
@@ -906,7 +909,15 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
     weld_soup(sc.soup, out);
     return;
   }
-  cut_indexed(mesh, edge_index(mesh, sc), pr, sc, out);
+  if (cut_indexed(mesh, edge_index(mesh, sc), pr, sc, out)) return;
+  // The mesh's index no longer describes its tets (edited in place without index_tet_edges):
+  // index a copy here, as for a mesh without one.
+  sc.edge_mesh.tets = mesh.tets;
+  sc.edge_mesh.tet_cell = mesh.tet_cell;
+  index_tet_edges(sc.edge_mesh);
+  const bool ok = cut_indexed(mesh, sc.edge_mesh, pr, sc, out);
+  assert(ok);
+  static_cast<void>(ok);
 }
 
 Section to_section(const TetSection& slice, const Complex& model) {

@@ -72,8 +72,8 @@ struct TetMesh {
   /// The corner pairs of a tetrahedron's edges, in the order of tet_edges.
   static constexpr std::array<std::array<int, 2>, 6> kTetEdgeCorners = {
       {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
-  /// Whether edges, tet_edges and the blocks describe the current tets (every edge's ends, every
-  /// block's range and vertices).
+  /// Whether edges, tet_edges and the blocks describe the current tets and tet_cell (every edge's
+  /// ends, every block's range and vertices).
   bool has_edge_index() const;
 
   std::size_t size() const { return tets.size(); }

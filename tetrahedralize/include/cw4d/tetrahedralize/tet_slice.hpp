@@ -76,6 +76,16 @@ struct TetSliceMesh {
   std::size_t vertex_count() const { return vertex_source.size(); }
   std::size_t triangle_count() const { return tet.size(); }
   bool empty() const { return tet.empty(); }
+  /// Empties every array, keeping their storage (the frame is left as it is).
+  void clear() {
+    positions.clear();
+    vertex_source.clear();
+    triangles.clear();
+    normals.clear();
+    uvw.clear();
+    tet.clear();
+    cell.clear();
+  }
   Eigen::Map<const Eigen::Matrix3Xd> position_matrix() const {
     return {positions.data(), 3, static_cast<Eigen::Index>(vertex_count())};
   }
