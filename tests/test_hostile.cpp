@@ -722,7 +722,7 @@ TEST_CASE("wythoff: the size is known from the group before anything is built",
   TempDir dir;
   for (const auto& [spec, says] : std::vector<std::pair<std::string, std::string>>{
            {"wythoff:x3x3x3x3x3x3x", "too large"},
-           // The expanded 9-simplex: 110 vertices and orientation_work 2.9e6, within the
+           // The expanded 10-simplex: 110 vertices and orientation_work 2.9e6, within the
            // budget, but the containment tests of its rank-9 facets read 2.6e8 ids (seconds).
            {"wythoff:x3o3o3o3o3o3o3o3o3x", "too large"},
            {"wythoff:x4x3x3x3x3x3x3x3x3x", "more than 2000000 vertices"},

@@ -717,8 +717,9 @@ Complex make_wythoff(const CoxeterDiagram& d, const WythoffOptions& options) {
                        " is degenerate: its vertices coincide (the base point lies on a mirror "
                        "of the group outside the unringed nodes' subgroup)");
   }
-  // Refuse before building what build_complex would refuse after it (or what has more
-  // vertices than the orbit may hold).
+  // Refuse before building what build_complex would refuse after it, what would take longer
+  // than that budget to build (counting the walk's containment reads), or what has more
+  // vertices than the orbit may hold.
   if (const auto size = estimate(d, m, roots)) {
     if (size->f[0] > static_cast<double>(kMaxVertices))
       throw InputError(name + " has more than " + std::to_string(kMaxVertices) + " vertices (" +

@@ -52,7 +52,9 @@ CoxeterDiagram parse_coxeter_diagram(std::string_view text);
 /// \throw InputError when the diagram is malformed, when some connected component of the diagram
 ///        has no ringed node (no ring at all, or a lower-dimensional result), when the group is
 ///        not finite (Gram matrix of the simple roots not positive definite, e.g. "x6o3o"), or
-///        when the polytope would have more than 2,000,000 vertices; for fractional marks also
+///        when the polytope would have more than 2,000,000 vertices or its build would exceed the
+///        orientation-work budget (orientation_work + containment_reads / 50, from wythoff_size,
+///        against max_orientation_work); for fractional marks also
 ///        when the generated group is infinite or the ringing is degenerate (coinciding
 ///        vertices, edges, faces or cells, hemi-faces through the centre, or elements that do
 ///        not close up into a valid complex).
