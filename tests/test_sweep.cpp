@@ -348,3 +348,44 @@ TEST_CASE("sweep: several solids (two tesseracts sharing a cube)", "[slicer][swe
   }
   CHECK(counts.layers - counts.general - counts.empty > 2000);
 }
+
+TEST_CASE("sweep: one Slicer kept over several models, sweeps and slices mixed",
+          "[slicer][sweep]") {
+  // The sweep keeps per-model tables in its Slicer (and in its helper Slicers for threads):
+  // sweeping another model, then the first again, slicing in between, must give every layer as
+  // a fresh Slicer's slice() does.
+  std::mt19937 rng(7001);
+  const Complex a = load_model("120-cell");
+  const Complex b = load_model("duoprism:12,9");
+  const SliceModel ca(a, SliceModelOptions::unclustered());
+  const SliceModel cb(b, SliceModelOptions::unclustered());
+  Slicer kept;
+  std::vector<SliceBuffers> layers;
+  SliceBuffers between;
+  for (int round = 0; round < 6; ++round) {
+    INFO("round " << round);
+    const bool first = round % 2 == 0;
+    const Complex& model = first ? a : b;
+    const SliceModel& compiled = first ? ca : cb;
+    const Eigen::VectorXd normal = test::random_unit(rng, 4);
+    const AffineTransform xf =
+        round >= 4 ? placement(rng, round == 5) : AffineTransform::identity(4);
+    const std::vector<double> h = heights(model, normal, xf);
+    const std::vector<double> d = round % 3 == 2 ? sparse(rng, h) : dense(h);
+    kept.sweep(compiled, normal, d, xf, layers, 1 + static_cast<unsigned>((round / 2) % 2));
+    REQUIRE(layers.size() == d.size());
+    Slicer fresh;
+    SliceBuffers one;
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      fresh.slice(compiled, Hyperplane::from(normal, d[k]), xf, one);
+      const std::string why = difference(layers[k], one);
+      if (!why.empty()) FAIL("layer " << k << " (offset " << d[k] << "): " << why);
+    }
+    // A slice of the other model through the same Slicer between two sweeps.
+    const SliceModel& other = first ? cb : ca;
+    kept.slice(other, Hyperplane::from(normal, 0.1), between);
+    fresh.slice(other, Hyperplane::from(normal, 0.1), one);
+    const std::string why = difference(between, one);
+    if (!why.empty()) FAIL("slice between sweeps: " << why);
+  }
+}
