@@ -273,8 +273,10 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
 // one pass writes the triangles through the 16-case table, turned by the table's combinatorial
 // orientation (the tetrahedra are positively oriented with their cell's normal, so no geometric
 // test is needed).
-// False (nothing trusted) when the index does not match the tets it reads: an edge id out of
-// range, an edge whose ends are not the tetrahedron's corners, or a block vertex out of range.
+// False (nothing written that is kept) when the index cannot be the tets' (an edge id or a block
+// vertex out of range): checks that keep a stale index from reading or writing out of bounds.
+// An index whose entries are in range but stale (tets edited in place with their count kept) is
+// the caller's error (documented at slice_tets).
 bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
                  TetSliceMesh& out) {
   const std::array<std::uint32_t, 2>* edges = index.edges.data();
@@ -352,20 +354,16 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  bool stale = false;  // the index checked on what this slice reads of it (no branch)
+  bool stale = false;  // an edge id out of range (no branch)
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
     const IndexedCase& ic = table[cut[i] & 15u];
     const auto& te = tet_edges[t];
-    const auto& tv = tets[t];
     cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
     for (std::size_t k = 0; k < 4; ++k) {
-      const auto& corners = TetMesh::kTetEdgeCorners[ic.local[k]];
-      const std::uint32_t a = tv[static_cast<std::size_t>(corners[0])];
-      const std::uint32_t b = tv[static_cast<std::size_t>(corners[1])];
       const std::uint32_t e0 = te[ic.local[k]];
       const std::uint32_t e = e0 < ne ? e0 : 0u;
-      stale |= (e0 >= ne) | (edges[e][0] != std::min(a, b)) | (edges[e][1] != std::max(a, b));
+      stale |= e0 >= ne;
       slot_edge[4 * i + k] = e;
       owner[e] = static_cast<std::uint32_t>(4 * i + k);
     }
@@ -809,7 +807,8 @@ const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
       mesh.block_first.back() == mesh.tets.size() &&
       mesh.block_vertex_first.size() == mesh.block_first.size()) {
     // Only the sizes are checked here (the whole check costs as much as the slice); the cut
-    // checks every index entry it reads and comes back for a copy's index when one is stale.
+    // checks the ranges of what it reads and comes back for a copy's index when one is out of
+    // range.
     return mesh;
   }
   if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||

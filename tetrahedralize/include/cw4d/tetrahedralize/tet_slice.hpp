@@ -126,7 +126,9 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 /// written into `out`, whose storage is reused (no allocation once it has grown). Planes through
 /// mesh vertices take the general loop above, welded. Precondition: the mesh's edge and block
 /// index describes its tets (as tetrahedralize leaves it; call index_tet_edges after editing
-/// `tets` or `tet_cell` in place, or clear `tet_edges` to have the slicer index a copy).
+/// `tets` or `tet_cell` in place, or clear `tet_edges` to have the slicer index a copy). An index
+/// with ids out of range is noticed and a copy indexed instead; one whose ids are in range but
+/// name other corners (TetMesh::has_edge_index false) gives a wrong section.
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSliceMesh& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
