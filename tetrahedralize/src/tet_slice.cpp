@@ -800,8 +800,19 @@ void weld_soup(const TetSection& soup, TetSliceMesh& out) {
   }
 }
 
-// The mesh's edge and block index, or one built here when its tets were changed after
-// tetrahedralize (kept per thread for the next slice of the same tets).
+// An edge and block index of a copy of the mesh's tets, built here and kept per thread for the
+// next slice of the same tets (for meshes without an index, or with one out of range).
+const TetMesh& indexed_copy(const TetMesh& mesh, Scratch& sc) {
+  if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||
+      sc.edge_mesh.block_first.empty()) {
+    sc.edge_mesh.tets = mesh.tets;
+    sc.edge_mesh.tet_cell = mesh.tet_cell;
+    index_tet_edges(sc.edge_mesh);
+  }
+  return sc.edge_mesh;
+}
+
+// The mesh's edge and block index, or a copy's when its tets were changed after tetrahedralize.
 const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
   if (mesh.tet_edges.size() == mesh.tets.size() && !mesh.block_first.empty() &&
       mesh.block_first.back() == mesh.tets.size() &&
@@ -811,13 +822,7 @@ const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
     // range.
     return mesh;
   }
-  if (sc.edge_mesh.tets != mesh.tets || sc.edge_mesh.tet_cell != mesh.tet_cell ||
-      sc.edge_mesh.block_first.empty()) {
-    sc.edge_mesh.tets = mesh.tets;
-    sc.edge_mesh.tet_cell = mesh.tet_cell;
-    index_tet_edges(sc.edge_mesh);
-  }
-  return sc.edge_mesh;
+  return indexed_copy(mesh, sc);
 }
 
 }  // namespace
@@ -910,11 +915,8 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
   }
   if (cut_indexed(mesh, edge_index(mesh, sc), pr, sc, out)) return;
   // The mesh's index no longer describes its tets (edited in place without index_tet_edges):
-  // index a copy here, as for a mesh without one.
-  sc.edge_mesh.tets = mesh.tets;
-  sc.edge_mesh.tet_cell = mesh.tet_cell;
-  index_tet_edges(sc.edge_mesh);
-  const bool ok = cut_indexed(mesh, sc.edge_mesh, pr, sc, out);
+  // a copy's, as for a mesh without one.
+  const bool ok = cut_indexed(mesh, indexed_copy(mesh, sc), pr, sc, out);
   assert(ok);
   static_cast<void>(ok);
 }
