@@ -309,13 +309,12 @@ void SliceModel::build_tet_tables() {
   const Rank& F = ranks_[2];
   const Rank& C = ranks_[3];
   const std::size_t nc = C.offsets.size() - 1;
-  for (std::size_t x = 0; x < nc; ++x)  // (tables only when every cell has four faces)
-    if (C.offsets[x + 1] - C.offsets[x] != 4) return;
+  for (std::size_t x = 0; x < nc; ++x)                 // tables only when every cell has four faces
+    if (C.offsets[x + 1] - C.offsets[x] != 4) return;  // (and, below, is a tetrahedron)
   std::vector<std::uint32_t> verts(4 * nc);
   std::vector<std::uint16_t> cases(16 * nc, 7);
   for (std::size_t x = 0; x < nc; ++x) {
     const std::uint32_t b = C.offsets[x];
-    if (C.offsets[x + 1] - b != 4) return;  // (tables only when every cell is a tetrahedron)
     std::uint32_t v[24];  // both ends of the three edges of each of the four faces
     int nv = 0;
     for (int i = 0; i < 4; ++i) {
