@@ -2,9 +2,10 @@
 # cw4d setup: installs the Debian packages the build needs, builds Release into build/, then
 #   ./setup.sh        runs the main job (a tesseract section written to out/section.obj)
 #   ./setup.sh test   runs the test suite (ctest), the Python module's tests (pytest), the
-#                     browser test of the web viewer, then the C++ suite again under ASan+UBSan
-#                     in build-asan/, then each libFuzzer target for 48 s (build-fuzz/), and
-#                     exits with the status
+#                     C++ suite again under ASan+UBSan in build-asan/, the browser test of the
+#                     web viewer, then each libFuzzer target for 48 s (build-fuzz/); every stage
+#                     runs, a verdict per stage is printed, and the exit status is the first
+#                     failure's
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
 # installed (CW4D_WEB=0 skips it).
 # Safe to run again: only missing packages are installed and the build is incremental.
@@ -298,22 +299,23 @@ if [[ "$MODE" == test ]]; then
   check_format || exit 1
   install_test_tools
   log "testing"
-  status=0
-  ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || status=$?
-  if ((status == 0)); then log "tests passed"; else log "tests FAILED (ctest exit $status)"; fi
-  if ((status == 0)); then
-    run_python_tests || status=$?
-  fi
-  if ((status == 0)); then
-    run_browser_test || status=$?
-    if ((status != 0)); then log "browser test FAILED"; fi
-  fi
-  if ((status == 0)) && [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then
-    run_sanitizer_suite || status=$?
-  fi
-  if ((status == 0)) && [[ "${CW4D_FUZZ_SECONDS:-48}" != 0 ]]; then
-    run_fuzz_smoke || status=$?
-  fi
+  # Every stage runs even when an earlier one failed, so one run reports each verdict (a failing
+  # browser test does not hide what the sanitizers say); the exit status is the first failure's.
+  status=0 verdicts=()
+  stage() {  # NAME COMMAND...: run one stage, record its verdict
+    local name="$1" rc=0
+    shift
+    "$@" || rc=$?
+    if ((rc == 0)); then verdicts+=("$name: passed"); else verdicts+=("$name: FAILED ($rc)"); fi
+    if ((rc != 0 && status == 0)); then status=$rc; fi
+  }
+  stage "ctest" ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
+  stage "pytest" run_python_tests
+  if [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then stage "ASan+UBSan ctest" run_sanitizer_suite; fi
+  stage "browser test" run_browser_test
+  if [[ "${CW4D_FUZZ_SECONDS:-48}" != 0 ]]; then stage "fuzz" run_fuzz_smoke; fi
+  for verdict in "${verdicts[@]}"; do log "$verdict"; done
+  if ((status == 0)); then log "every test passed"; else log "tests FAILED"; fi
   exit "$status"
 fi
 
