@@ -451,6 +451,45 @@ TEST_CASE("hyperplane basis: orthonormal, right-handed, deterministic, natural f
   CHECK(b == Eigen::MatrixXd::Identity(4, 3));
 }
 
+TEST_CASE("hyperplane basis: right-handed for every largest coordinate, sign, tie and scale") {
+  // The orientation is decided without elimination; Eigen's LU determinant of the frame is the
+  // independent check, over normals whose largest coordinate (by magnitude) sits in every place
+  // with either sign, exact ties (which pick the last of the largest), normals that are not unit
+  // (the raw-pointer form does not normalise), and dimensions past the old stack bound of 8.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-1.0, 1.0);
+  for (int n = 2; n <= 10; ++n) {
+    std::vector<Eigen::VectorXd> normals;
+    for (int j = 0; j < n; ++j)
+      for (double s : {1.0, -1.0}) {
+        Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+        u[j] = s;
+        normals.push_back(u);
+        for (int trial = 0; trial < 6; ++trial) {
+          Eigen::VectorXd v(n);
+          for (int i = 0; i < n; ++i) v[i] = 0.9 * coord(rng);
+          v[j] = s;
+          normals.push_back(v.normalized());
+          normals.push_back(v * (trial % 2 ? 3.5 : 0.25));  // not unit
+        }
+      }
+    for (int trial = 0; trial < 8; ++trial) {  // ties of the largest magnitude
+      Eigen::VectorXd v(n);
+      for (int i = 0; i < n; ++i) v[i] = (rng() & 1u) ? 1.0 : -1.0;
+      normals.push_back(v / std::sqrt(static_cast<double>(n)));
+    }
+    for (const Eigen::VectorXd& u : normals) {
+      Eigen::MatrixXd b(n, n - 1);
+      hyperplane_basis(u.data(), n, b.data());
+      CHECK(b == hyperplane_basis(u));
+      Eigen::MatrixXd frame(n, n);
+      frame << b, u;
+      INFO("n = " << n << ", normal " << u.transpose());
+      CHECK(frame.determinant() > 0.0);
+    }
+  }
+}
+
 TEST_CASE("hyperplane: a zero or non-finite normal is rejected") {
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d::Zero(), 0.0), InputError);
   CHECK_THROWS_AS(Hyperplane::from(Eigen::Vector4d(1, NAN, 0, 0), 0.0), InputError);

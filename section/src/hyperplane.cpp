@@ -38,32 +38,6 @@ Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
   return Hyperplane{m / m.norm(), d};
 }
 
-namespace {
-
-// Sign of the determinant of the n x n column-major matrix a (destroyed), by Gaussian
-// elimination with partial pivoting.
-int determinant_sign(double* a, int n) {
-  int sign = 1;
-  for (int k = 0; k < n; ++k) {
-    int piv = k;
-    for (int i = k + 1; i < n; ++i)
-      if (std::abs(a[k * n + i]) > std::abs(a[k * n + piv])) piv = i;
-    if (a[k * n + piv] == 0.0) return 0;
-    if (piv != k) {
-      for (int j = 0; j < n; ++j) std::swap(a[j * n + k], a[j * n + piv]);
-      sign = -sign;
-    }
-    if (a[k * n + k] < 0.0) sign = -sign;
-    for (int i = k + 1; i < n; ++i) {
-      const double f = a[k * n + i] / a[k * n + k];
-      for (int j = k; j < n; ++j) a[j * n + i] -= f * a[j * n + k];
-    }
-  }
-  return sign;
-}
-
-}  // namespace
-
 void hyperplane_basis(const double* nrm, int n, double* basis) {
   int j = 0;
   for (int i = 1; i < n; ++i)
@@ -86,21 +60,14 @@ void hyperplane_basis(const double* nrm, int n, double* basis) {
     }
     ++col;
   }
-  if (n >= 2) {
-    // (b_1, ..., b_{n-1}, nrm) must be right-handed: its determinant is +-1.
-    constexpr int kStack = 8;
-    double stack[kStack * kStack];
-    std::vector<double> heap;
-    double* frame = stack;
-    if (n > kStack) {
-      heap.resize(static_cast<std::size_t>(n) * n);
-      frame = heap.data();
-    }
-    std::copy(basis, basis + n * (n - 1), frame);
-    std::copy(nrm, nrm + n, frame + n * (n - 1));
-    if (determinant_sign(frame, n) < 0)
-      for (int r = 0; r < n; ++r) basis[r] = -basis[r];
-  }
+  // (b_1, ..., b_{n-1}, nrm) must be right-handed. H is a reflection (determinant -1) and
+  // the frame is H's columns without the j-th, then nrm, whose j-th coordinate in H's columns,
+  // (H nrm)_j = -sgn (|nrm_j| |nrm|^2 + |nrm_j| + 2 |nrm|^2) / |u|^2, has the sign -sgn for
+  // every nonzero normal; moving that column from place j to the end takes n - 1 - j swaps. So
+  // the frame's determinant has the sign sgn (-1)^(n-1-j), exactly: no elimination needed.
+  const bool odd = (n - 1 - j) % 2 == 1;
+  if (n >= 2 && (sgn < 0.0) != odd)
+    for (int r = 0; r < n; ++r) basis[r] = -basis[r];
 }
 
 Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& nrm) {
