@@ -1,11 +1,21 @@
 // Frame time of the software rasterizer (render/) at 1920x1080, next to Mesa's llvmpipe through
-// OSMesa drawing the same triangles with legacy OpenGL (client arrays, fixed-function lighting).
+// OSMesa drawing the same triangles with legacy OpenGL (client arrays), in two ways:
+//   llvmpipe/...       fixed-function lighting: the rig lit per vertex (Gouraud), the colors
+//                      interpolated; cheaper per pixel than cw4d's model, and not the same picture;
+//   llvmpipe-glsl/...  a GLSL fragment shader evaluating cw4d's Blinn-Phong per pixel: the same
+//                      lights and terms (ambient, two-sided normal, the point light's
+//                      1 / (1 + k d^2), the highlight cut below 1e-3), perspective-correct
+//                      position, normal and color: the like-for-like reference.
 //
 // Scenes: the section of the 120-cell by a generic plane (~200 triangles: fill-bound) and the
 // section of spherinder:1,320 (~1e5 triangles: setup-bound). Both renderers draw every triangle
 // of the same mesh (no culling), with a depth buffer, two directional lights and a point light.
-// Differences that favour llvmpipe: it lights per vertex (Gouraud) where cw4d lights per
-// pixel (Blinn-Phong), and it writes 8-bit pixels where cw4d resolves to linear float RGBA.
+// Differences that favour llvmpipe: the fixed-function reference lights per vertex (Gouraud)
+// where cw4d lights per pixel (Blinn-Phong), and both references write 8-bit pixels where cw4d
+// resolves to linear float RGBA. Each reference reports how far its picture is from cw4d's
+// (the counters dev = mean |difference| of the RGB bytes over the pixels both drew, in 8-bit
+// steps of the linear value, and off = the fraction of those pixels with a channel off by more
+// than 2 steps), so that "the same lighting model" is measured, not asserted.
 // cw4d runs with 1 sample per pixel (as llvmpipe, which has no MSAA through OSMesa) and with
 // 2x2 samples; threads = all cores unless the name says /threads:1. One Rasterizer and one
 // Image serve every frame (as llvmpipe keeps its context and buffer), except in /fresh, which
@@ -13,15 +23,21 @@
 // like the PNG writer's encoding, as llvmpipe writes 8-bit RGBA (it without the sRGB transfer
 // function); the other rows write the linear float frame.
 //
-// In console mode the program ends with wall-time ratios cw4d / llvmpipe from the same run.
+// In console mode the program ends with wall-time ratios cw4d / llvmpipe and cw4d /
+// llvmpipe-glsl from the same run.
 //
 //   bench_render [--benchmark_filter=REGEX] [--benchmark_min_time=SECONDS] ...
 #include <benchmark/benchmark.h>
 
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>  // with GL_GLEXT_PROTOTYPES: glext.h, the GL 2.0 shader calls
 #include <GL/osmesa.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <set>
@@ -129,9 +145,159 @@ struct GlState {
   std::vector<float> positions, normals, colors;
   std::vector<unsigned> indices;
   std::string renderer;
+  GLuint program = 0;  // the per-fragment Blinn-Phong shader, or 0 (fixed function)
 };
 
-bool gl_setup(GlState& g, const Case& c) {
+// cw4d's Blinn-Phong (raster.cpp, shade) per fragment, in world coordinates: the mesh positions
+// are world positions and the modelview matrix is the camera's view matrix.
+constexpr const char* kVertexShader = R"(#version 120
+varying vec3 p;
+varying vec3 n;
+varying vec4 col;
+void main() {
+  p = gl_Vertex.xyz;
+  n = gl_Normal;
+  col = gl_Color;
+  gl_Position = gl_ModelViewProjectionMatrix * gl_Vertex;
+}
+)";
+
+// Written for a SIMD shader compiler: the light loop has a constant bound (LIGHTS, defined
+// before this text) and no branches, every term selected instead; a light behind the surface
+// or at the fragment adds nothing, as in cw4d. A directional light has w = 0 and attenuation 0,
+// so L is its vector and the intensity 1 exactly.
+constexpr const char* kFragmentShader = R"(
+uniform vec3 ambient;
+uniform vec3 eye;
+uniform vec3 forward;
+uniform float specular;
+uniform float shininess;
+uniform float cutoff;
+uniform vec4 light_vector[LIGHTS];  // w = 1: a point light at xyz; w = 0: towards the light
+uniform vec3 light_color[LIGHTS];
+uniform float light_attenuation[LIGHTS];
+varying vec3 p;
+varying vec3 n;
+varying vec4 col;
+void main() {
+  vec3 base = col.rgb;
+  float nn = dot(n, n);
+  vec3 N = n / sqrt(nn);
+  vec3 to = eye - p;
+  float d = length(to);
+  vec3 V = d > 0.0 ? to / d : -forward;
+  N = dot(N, V) < 0.0 ? -N : N;
+  vec3 c = ambient * base;
+  for (int i = 0; i < LIGHTS; ++i) {
+    vec3 L = light_vector[i].xyz - light_vector[i].w * p;
+    float intensity = 1.0 / (1.0 + light_attenuation[i] * dot(L, L));
+    float len = length(L);
+    L = L / len;
+    float diffuse = dot(N, L);
+    vec3 H = normalize(L + V);
+    float nh = dot(N, H);
+    float s = nh > cutoff ? specular * pow(max(nh, 0.0), shininess) : 0.0;
+    c += len > 0.0 && diffuse > 0.0 ? intensity * light_color[i] * (base * diffuse + vec3(s))
+                                    : vec3(0.0);
+  }
+  c = nn > 0.0 ? c : base;
+  float a = clamp(col.a, 0.0, 1.0);
+  gl_FragColor = vec4(c * a, a);
+}
+)";
+
+GLuint compile(GLenum kind, const std::string& text) {
+  const GLuint sh = glCreateShader(kind);
+  const char* source = text.c_str();
+  glShaderSource(sh, 1, &source, nullptr);
+  glCompileShader(sh);
+  GLint ok = 0;
+  glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(sh, sizeof log, nullptr, log);
+    std::fprintf(stderr, "bench_render: shader compilation failed: %s\n", log);
+    glDeleteShader(sh);
+    return 0;
+  }
+  return sh;
+}
+
+// The shader program with the uniforms of `lit` and the camera; 0 when GLSL is unavailable.
+GLuint make_program(const cw4d::render::Lighting& lit, const cw4d::render::Camera& camera) {
+  const int count = static_cast<int>(std::min<std::size_t>(lit.lights.size(), 8));
+  if (count == 0) return 0;
+  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 120\n#define LIGHTS " +
+                                                    std::to_string(count) + "\n" + kFragmentShader);
+  if (!vs || !fs) return 0;
+  const GLuint prog = glCreateProgram();
+  glAttachShader(prog, vs);
+  glAttachShader(prog, fs);
+  glLinkProgram(prog);
+  GLint ok = 0;
+  glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+  if (!ok) return 0;
+  glUseProgram(prog);
+  auto loc = [&](const char* name) { return glGetUniformLocation(prog, name); };
+  glUniform3f(loc("ambient"), lit.ambient.r, lit.ambient.g, lit.ambient.b);
+  glUniform3f(loc("eye"), camera.eye.x, camera.eye.y, camera.eye.z);
+  const glm::vec3 f = camera.forward();
+  glUniform3f(loc("forward"), f.x, f.y, f.z);
+  glUniform1f(loc("specular"), lit.specular);
+  glUniform1f(loc("shininess"), lit.shininess);
+  // As make_state in raster.cpp: below this N.H the highlight is under 1e-3.
+  glUniform1f(loc("cutoff"),
+              lit.shininess > 0.0f ? std::exp(std::log(1e-3f) / lit.shininess) : 0.0f);
+  std::vector<float> vec, color, att;
+  for (int i = 0; i < count; ++i) {
+    const auto& l = lit.lights[static_cast<std::size_t>(i)];
+    const bool point = l.kind == cw4d::render::Light::Kind::Point;
+    vec.insert(vec.end(), {l.vector.x, l.vector.y, l.vector.z, point ? 1.0f : 0.0f});
+    color.insert(color.end(), {l.color.r, l.color.g, l.color.b});
+    att.push_back(point ? l.attenuation : 0.0f);
+  }
+  glUniform4fv(loc("light_vector"), count, vec.data());
+  glUniform3fv(loc("light_color"), count, color.data());
+  glUniform1fv(loc("light_attenuation"), count, att.data());
+  return prog;
+}
+
+// How far the GL picture (8-bit linear RGBA, bottom row first) is from cw4d's float frame of
+// the same case: mean |difference| of the RGB bytes over the pixels both drew, and the
+// fraction of those pixels with a channel more than 2 steps off.
+void deviation(const std::vector<unsigned char>& gl, const Case& c, benchmark::State& state) {
+  cw4d::render::RasterOptions ro;
+  ro.width = kWidth;
+  ro.height = kHeight;
+  ro.samples_per_axis = 1;
+  cw4d::render::Rasterizer r(ro);
+  r.draw(c.mesh, c.camera.view(r.aspect()), cw4d::render::Lighting::studio(c.camera));
+  const cw4d::render::Image img = r.render();
+  double sum = 0.0;
+  std::size_t both = 0, off = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const unsigned char* g =
+          &gl[(static_cast<std::size_t>(kHeight - 1 - y) * kWidth + static_cast<std::size_t>(x)) *
+              4];
+      const glm::vec4& p = img.at(x, y);
+      if (g[3] == 0 || !(p.a > 0.0f)) continue;
+      ++both;
+      int worst = 0;
+      for (int k = 0; k < 3; ++k) {
+        const int ours = static_cast<int>(std::lround(std::clamp(p[k], 0.0f, 1.0f) * 255.0f));
+        const int d = std::abs(ours - static_cast<int>(g[k]));
+        sum += d;
+        worst = std::max(worst, d);
+      }
+      off += worst > 2;
+    }
+  state.counters["dev"] = both ? sum / (3.0 * static_cast<double>(both)) : 0.0;
+  state.counters["off"] = both ? static_cast<double>(off) / static_cast<double>(both) : 0.0;
+}
+
+bool gl_setup(GlState& g, const Case& c, bool glsl) {
   g.ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
   if (!g.ctx) return false;
   g.buffer.assign(static_cast<std::size_t>(kWidth) * kHeight * 4, 0);
@@ -183,13 +349,19 @@ bool gl_setup(GlState& g, const Case& c) {
   glNormalPointer(GL_FLOAT, 0, g.normals.data());
   glColorPointer(4, GL_FLOAT, 0, g.colors.data());
   glClearColor(0, 0, 0, 0);
+  if (glsl) {
+    g.program = make_program(lit, c.camera);
+    if (!g.program) return false;
+  }
   return true;
 }
 
-void bm_llvmpipe(benchmark::State& state, const Case* c) {
+// glsl: cw4d's per-pixel Blinn-Phong as a fragment shader instead of fixed-function lighting.
+void bm_llvmpipe(benchmark::State& state, const Case* c, bool glsl) {
   GlState g;
-  if (!gl_setup(g, *c)) {
-    state.SkipWithError("OSMesa context creation failed");
+  if (!gl_setup(g, *c, glsl)) {
+    state.SkipWithError(glsl ? "OSMesa context or GLSL program creation failed"
+                             : "OSMesa context creation failed");
     return;
   }
   for (auto _ : state) {
@@ -205,6 +377,8 @@ void bm_llvmpipe(benchmark::State& state, const Case* c) {
   state.counters["drawn"] = static_cast<double>(drawn) / (kWidth * kHeight);
   state.SetLabel(g.renderer);
   state.counters["triangles"] = static_cast<double>(c->mesh.triangles.size());
+  deviation(g.buffer, *c, state);
+  if (g.program) glDeleteProgram(g.program);
   OSMesaDestroyContext(g.ctx);
 }
 
@@ -227,10 +401,12 @@ void register_cases() {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
           ->MinTime(1.0);
-    benchmark::RegisterBenchmark(("llvmpipe/" + c.name).c_str(), bm_llvmpipe, p)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime()
-        ->MinTime(1.0);
+    for (const bool glsl : {false, true})
+      benchmark::RegisterBenchmark(((glsl ? "llvmpipe-glsl/" : "llvmpipe/") + c.name).c_str(),
+                                   bm_llvmpipe, p, glsl)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->MinTime(1.0);
   }
 }
 
@@ -253,17 +429,27 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
   void Finalize() override {
     ConsoleReporter::Finalize();
-    std::printf("\nWall time per frame, cw4d / llvmpipe (same run%s):\n",
-                median_.empty() ? "" : ", medians");
-    for (const Case& c : cases()) {
-      const auto gl = times_.find("llvmpipe/" + c.name + "/min_time:1.000/real_time");
-      if (gl == times_.end()) continue;
-      for (const char* variant : {"samples:1", "samples:1/threads:1", "samples:1/fresh",
-                                  "samples:1/srgb8", "samples:1/srgb8/threads:1", "samples:2x2"}) {
-        const auto ours =
-            times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
-        if (ours == times_.end()) continue;
-        std::printf("  %-18s %-26s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
+    for (const char* ref : {"llvmpipe", "llvmpipe-glsl"}) {
+      const std::string_view what = std::string_view(ref) == "llvmpipe"
+                                        ? "fixed-function, per-vertex lighting"
+                                        : "GLSL, cw4d's per-pixel Blinn-Phong";
+      bool header = false;
+      for (const Case& c : cases()) {
+        const auto gl = times_.find(std::string(ref) + "/" + c.name + "/min_time:1.000/real_time");
+        if (gl == times_.end()) continue;
+        for (const char* variant :
+             {"samples:1", "samples:1/threads:1", "samples:1/fresh", "samples:1/srgb8",
+              "samples:1/srgb8/threads:1", "samples:2x2"}) {
+          const auto ours =
+              times_.find("cw4d/" + c.name + "/" + variant + "/min_time:1.000/real_time");
+          if (ours == times_.end()) continue;
+          if (!header)
+            std::printf("\nWall time per frame, cw4d / %s (%.*s; same run%s):\n", ref,
+                        static_cast<int>(what.size()), what.data(),
+                        median_.empty() ? "" : ", medians");
+          header = true;
+          std::printf("  %-18s %-26s %6.2f\n", c.name.c_str(), variant, ours->second / gl->second);
+        }
       }
     }
   }

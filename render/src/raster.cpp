@@ -77,10 +77,28 @@ struct DrawState {
   DrawOptions options;
   float specular_cutoff = 0.0f;  // below this N.H the highlight is under 1e-3: not computed
   int integer_shininess = 0;     // the shininess when it is a whole number 1..1024, else 0
+  // Per light of lighting.lights: a directional light's vector divided by its length, as the
+  // shading computes it for every fragment (the same float operations), so the SIMD path
+  // reads it instead of recomputing it; lit false when that length is not positive.
+  struct Unit {
+    glm::vec3 l{0.0f};
+    bool lit = false;
+  };
+  std::vector<Unit> unit_lights;
 };
 
 DrawState make_state(const View& view, const Lighting& lighting, const DrawOptions& options) {
-  DrawState d{view, lighting, options, 0.0f, 0};
+  DrawState d{view, lighting, options, 0.0f, 0, {}};
+  for (const Light& light : lighting.lights) {
+    DrawState::Unit u;
+    if (light.kind == Light::Kind::Directional) {
+      const glm::vec3 l = light.vector;
+      const float len = std::sqrt(l.x * l.x + l.y * l.y + l.z * l.z);
+      u.lit = len > 0.0f;
+      u.l = glm::vec3(l.x / len, l.y / len, l.z / len);
+    }
+    d.unit_lights.push_back(u);
+  }
   if (options.blend == Blend::Over) d.options.depth_write = false;
   if (lighting.shininess > 0.0f) d.specular_cutoff = std::exp(std::log(1e-3f) / lighting.shininess);
   if (lighting.shininess >= 1.0f && lighting.shininess <= 1024.0f &&
@@ -456,17 +474,24 @@ CW4D_AVX2 void shade8(const DrawState& d, const ScreenTriangle& t, const Edges& 
     const Lighting& lit_rig = d.lighting;
     v8f c[3] = {lit_rig.ambient.x * base[0], lit_rig.ambient.y * base[1],
                 lit_rig.ambient.z * base[2]};
-    for (const Light& light : lit_rig.lights) {
-      V3 l{splat(light.vector.x), splat(light.vector.y), splat(light.vector.z)};
+    for (std::size_t li = 0; li < lit_rig.lights.size(); ++li) {
+      const Light& light = lit_rig.lights[li];
+      V3 l;
       v8f intensity = splat(1.0f);
+      v8i on;
       if (light.kind == Light::Kind::Point) {
-        l = {l.x - p.x, l.y - p.y, l.z - p.z};
+        l = {light.vector.x - p.x, light.vector.y - p.y, light.vector.z - p.z};
         const v8f d2 = dot3(l, l);
         intensity = splat(1.0f) / (splat(1.0f) + light.attenuation * d2);
+        const v8f len = vsqrt(d2);
+        on = len > zero;
+        l = {l.x / len, l.y / len, l.z / len};
+      } else {  // the unit vector is the same in every lane: computed once per draw
+        const DrawState::Unit& u = d.unit_lights[li];
+        if (!u.lit) continue;
+        l = {splat(u.l.x), splat(u.l.y), splat(u.l.z)};
+        on = ~(zero != zero);
       }
-      const v8f len = vsqrt(dot3(l, l));
-      v8i on = len > zero;
-      l = {l.x / len, l.y / len, l.z / len};
       const v8f diffuse = dot3(n, l);
       on &= diffuse > zero;
       if (!_mm256_movemask_ps(reinterpret_cast<__m256>(on))) continue;
@@ -865,7 +890,14 @@ void render_tiles(const RasterOptions& options,
     thread_local std::vector<Entry> waiting;
     thread_local std::vector<std::uint8_t> waiting_count;
     const std::size_t samples = static_cast<std::size_t>(kTile) * kTile * spp;
-    color.assign(samples, background);
+    // One sample per pixel: a pixel's color is written only once it shows a triangle (rows of
+    // bits, `covered`); the others get the background when the tile is written. With more
+    // samples every sample starts as the background.
+    std::uint64_t covered[kTile] = {};
+    if (spp == 1)
+      color.resize(samples);
+    else
+      color.assign(samples, background);
     depth.assign(samples, 1.0f);
     visible.assign(samples, no_index);
     edges.resize(bin.size());
@@ -963,6 +995,8 @@ void render_tiles(const RasterOptions& options,
             while (end < tw && visible[row + end] == id) ++end;
             std::fill(visible.begin() + static_cast<std::ptrdiff_t>(row + x),
                       visible.begin() + static_cast<std::ptrdiff_t>(row + end), no_index);
+            covered[y] |=
+                (end - x == kTile ? ~std::uint64_t{0} : (std::uint64_t{1} << (end - x)) - 1) << x;
             enqueue(id, {static_cast<std::uint16_t>(row + x), 0, 1u},
                     static_cast<std::uint32_t>(end - x));
             x = end;
@@ -1132,6 +1166,12 @@ void render_tiles(const RasterOptions& options,
           const glm::vec4 c = shade_at(d, t, e, X, Ys);
           const float alpha = std::clamp(c.a, 0.0f, 1.0f);
           const glm::vec4 premul(glm::vec3(c) * alpha, alpha);
+          if (spp == 1) {
+            std::uint64_t& bits = covered[py - ty0];
+            const std::uint64_t bit = std::uint64_t{1} << (px - tx0);
+            if (!(bits & bit)) color[base] = background;
+            bits |= bit;
+          }
           for (int q = 0; q < spp; ++q)
             if (mask & (1u << q)) color[base + q] = premul + (1.0f - alpha) * color[base + q];
         }
@@ -1139,8 +1179,18 @@ void render_tiles(const RasterOptions& options,
     }
     flush();
     if (spp == 1) {
-      for (int y = 0; y < th; ++y)
-        sink.write(tx0, ty0 + y, &color[static_cast<std::size_t>(y) * kTile], tw);
+      for (int y = 0; y < th; ++y) {
+        glm::vec4* row = &color[static_cast<std::size_t>(y) * kTile];
+        if (!covered[y]) {
+          sink.fill(tx0, ty0 + y, tw);
+          continue;
+        }
+        for (std::uint64_t gaps =
+                 ~covered[y] & (tw == kTile ? ~std::uint64_t{0} : (std::uint64_t{1} << tw) - 1);
+             gaps; gaps &= gaps - 1)
+          row[__builtin_ctzll(gaps)] = background;
+        sink.write(tx0, ty0 + y, row, tw);
+      }
       sink.fence();
       return;
     }
