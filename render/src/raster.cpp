@@ -35,6 +35,12 @@ constexpr int kNarrow = 16;           // rows up to this many pixels are tested 
 constexpr std::size_t kChunk = 2048;  // triangles per geometry work item
 constexpr int kMaxSide = 16384;
 
+static_assert(kTile <= 64, "a tile row's pixels are the bits of one std::uint64_t");
+// The n lowest bits set, 0 <= n <= 64 (a tile row's pixel mask).
+constexpr std::uint64_t low_bits(int n) {
+  return n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
+}
+
 // Interpolated per vertex: world position, normal, color, texture coordinates.
 struct Attr {
   glm::vec3 position{0.0f};
@@ -995,8 +1001,7 @@ void render_tiles(const RasterOptions& options,
             while (end < tw && visible[row + end] == id) ++end;
             std::fill(visible.begin() + static_cast<std::ptrdiff_t>(row + x),
                       visible.begin() + static_cast<std::ptrdiff_t>(row + end), no_index);
-            covered[y] |=
-                (end - x == kTile ? ~std::uint64_t{0} : (std::uint64_t{1} << (end - x)) - 1) << x;
+            covered[y] |= low_bits(end - x) << x;
             enqueue(id, {static_cast<std::uint16_t>(row + x), 0, 1u},
                     static_cast<std::uint32_t>(end - x));
             x = end;
@@ -1185,9 +1190,7 @@ void render_tiles(const RasterOptions& options,
           sink.fill(tx0, ty0 + y, tw);
           continue;
         }
-        for (std::uint64_t gaps =
-                 ~covered[y] & (tw == kTile ? ~std::uint64_t{0} : (std::uint64_t{1} << tw) - 1);
-             gaps; gaps &= gaps - 1)
+        for (std::uint64_t gaps = ~covered[y] & low_bits(tw); gaps; gaps &= gaps - 1)
           row[__builtin_ctzll(gaps)] = background;
         sink.write(tx0, ty0 + y, row, tw);
       }
