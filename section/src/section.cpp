@@ -849,13 +849,27 @@ struct SectionScratch {
 
 }  // namespace
 
-Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
-  check_section_input(model, plane, xf);
+namespace {
+
+// section() with the model placed by *xf, or unmoved (xf == nullptr: the slicer's identity
+// placement, which gives the identity transform's buffers bit for bit without building it).
+Section section_placed(const Complex& model, const Hyperplane& plane, const AffineTransform* xf) {
+  if (xf) {
+    check_section_input(model, plane, *xf);
+  } else {
+    const int n = model.ambient_dim();
+    if (n < 2 || plane.dim() != n)  // (check_section_input's messages)
+      check_section_input(model, plane, AffineTransform::identity(n));
+  }
   // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
   thread_local SectionScratch scratch;
   const auto [compiled, convex] = scratch.compiled(model);
-  if (!compiled->fast()) return section_general(model, plane, xf);
-  scratch.slicer.slice(*compiled, plane, xf, scratch.buffers);
+  if (!compiled->fast())
+    return section_general(model, plane, xf ? *xf : AffineTransform::identity(model.ambient_dim()));
+  if (xf)
+    scratch.slicer.slice(*compiled, plane, *xf, scratch.buffers);
+  else
+    scratch.slicer.slice(*compiled, plane, scratch.buffers);
   // A convex polytope's section by a plane in general position (the fast path) is a convex
   // polytope whose faces are strictly convex polygons: nothing to test for self-intersection.
   Section sec = convex && !scratch.buffers.general ? to_section_untested(scratch.buffers)
@@ -864,8 +878,14 @@ Section section(const Complex& model, const Hyperplane& plane, const AffineTrans
   return sec;
 }
 
+}  // namespace
+
+Section section(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+  return section_placed(model, plane, &xf);
+}
+
 Section section(const Complex& model, const Hyperplane& plane) {
-  return section(model, plane, AffineTransform::identity(model.ambient_dim()));
+  return section_placed(model, plane, nullptr);
 }
 
 }  // namespace cw4d
