@@ -128,7 +128,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // faces and cells to visit (zero between slices: cleared when listed, or wholly when the
   // kernel stops half way).
   if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
-  start_buffers(m, pl, out);
+  start_kernel_buffers(m, pl, out);
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
@@ -150,7 +150,16 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   std::uint8_t* const face_count = face_mark_.data();
   std::uint8_t* const cell_count = cell_mark_.data();
   std::uint32_t* const face_ends = face_ends_.data();
+  // Cells that are not the tetrahedra of a table each collect their steps (one per cut face,
+  // written by the face) in a bucket at their boundary row's place, so that a cut cell reads
+  // only its cut faces' steps, not its whole row.
+  const bool buckets = m.tet_vertices_.empty();
+  if (buckets) {
+    if (cell_fill_.size() < nc) cell_fill_.resize(nc, 0);
+    if (cell_steps_.size() < C.ids.size()) cell_steps_.resize(C.ids.size());
+  }
   auto stop = [this](int result) {
+    std::fill(cell_fill_.begin(), cell_fill_.end(), 0u);
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
@@ -161,35 +170,41 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const std::uint32_t* const face_up = m.up_offsets_[2].data();
   const std::uint32_t* const face_up_ids = m.up_ids_[2].data();
   // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
-  // coefficient in the face's cut (the kFlip bit: +1).
-  std::uint32_t cut_faces_bound = 0;
+  // coefficient in the face's cut (the kFlip bit: +1). The crossing edges of every touched
+  // cluster are listed first, without a branch (the sides are unpredictable), or those a sweep
+  // marked; then the outputs are sized once.
+  const std::size_t ne = E.offsets.size() - 1;
+  if (crossing_ids_.size() < ne) crossing_ids_.resize(ne);
+  std::uint32_t* const list = crossing_ids_.data();
+  std::uint32_t count = 0;
   for (auto c : touched_) {
-    // The crossing edges first: listed without a branch (the sides are unpredictable), or
-    // those a sweep marked.
     const std::uint32_t e0 = m.begin_[0][c], e1 = m.begin_[0][c + 1];
-    if (crossing_ids_.size() < e1 - e0) crossing_ids_.resize(e1 - e0);
-    std::uint32_t* const list = crossing_ids_.data();
-    std::uint32_t count = 0;
     if (marked_edges) {
-      std::uint32_t* w = list;
-      visit_marked(mark_[1], e0, e1, [&w](std::uint32_t e) {
-        *w++ = e;
+      visit_marked(mark_[1], e0, e1, [list, &count](std::uint32_t e) {
+        list[count++] = e;
         return true;
       });
-      count = static_cast<std::uint32_t>(w - list);
     } else {
       for (std::uint32_t e = e0; e < e1; ++e) {
         list[count] = e;
         count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
       }
     }
-    const std::uint32_t v0 = static_cast<std::uint32_t>(out.vertex_source.size());
-    out.vertex_source.resize(v0 + count);
-    section_edge_.resize(v0 + count);
+  }
+  if (count == 0) {
+    clear_to_empty(out, m.dim_ - 1);
+    section_edge_.clear();
+    facet_internal_.clear();
+    return 1;
+  }
+  out.vertex_source.resize(count);
+  section_edge_.resize(count);
+  std::uint32_t cut_faces_bound = 0;
+  {
     VertexSource* const vs = out.vertex_source.data();
     std::uint32_t* const vertex_edge = section_edge_.data();
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const std::uint32_t e = list[i];
+    for (std::uint32_t v = 0; v < count; ++v) {
+      const std::uint32_t e = list[v];
       const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
       const double t = s[a] / (s[a] - s[b]);
       const double len = edge_length[e];
@@ -197,7 +212,6 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         reason_ = FallbackReason::Weld;
         return stop(0);
       }
-      const std::uint32_t v = v0 + i;
       vs[v] = {edge_model ? edge_model[e] : e, 1, t};
       vertex_edge[v] = e;
       // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
@@ -213,10 +227,6 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       }
       cut_faces_bound += j1 - j0;
     }
-  }
-  if (out.vertex_source.empty()) {
-    clear_to_empty(out, m.dim_ - 1);
-    return 1;
   }
   // Rank 2: a face handed two crossings of opposite coefficients gives the section edge from
   // the one with -1 to the one with +1; it keeps that edge's id for its cells and marks them.
@@ -237,6 +247,9 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const edge_row = edges.ids.data();
     std::uint32_t* const src = out.source[1].data();
     std::uint32_t* const face_edge = face_edge_.data();
+    std::uint32_t* const fill = cell_fill_.data();
+    CellStep* const bucket = cell_steps_.data();
+    const std::uint32_t* const cell_off = C.offsets.data();
     bool bad = false;
     for (std::uint32_t se = 0; se < nse; ++se) {
       const std::uint64_t item = faces[se];
@@ -245,12 +258,25 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       // Two crossings (no more, no fewer), distinct, of opposite coefficients.
       bad |= (item & 0xffu) != 2 || ((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0;
       const std::uint32_t tail = p ^ ((p ^ q) & (0u - (p >> 31)));  // (p's flip: q is the tail)
-      edge_row[2 * se] = tail & kIndex;
-      edge_row[2 * se + 1] = (p ^ q ^ tail) & kIndex;
+      const std::uint32_t ta = tail & kIndex, hd = (p ^ q ^ tail) & kIndex;
+      edge_row[2 * se] = ta;
+      edge_row[2 * se + 1] = hd;
       src[se] = face_model ? face_model[x] : x;
       face_edge[x] = se;
       const std::uint32_t j0 = face_up[x], j1 = face_up[x + 1];
-      for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
+      if (buckets) {
+        for (std::uint32_t j = j0; j < j1; ++j) {
+          const std::uint32_t up = face_up_ids[j];
+          const std::uint32_t y = up & kIndex;
+          cell_count[y] = 1;
+          // The step's sign is minus the face's sign in the cell: forward when that is -1.
+          const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
+          const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
+          bucket[cell_off[y] + fill[y]++] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
+        }
+      } else {
+        for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
+      }
       cut_cells_bound += j1 - j0;
     }
     if (bad) return stop(-1);
@@ -267,10 +293,9 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // at the smallest tail, steps follow heads). A pinch, an open chain or several loops: the
   // generic gathering. A tetrahedron's polygon is read from the model's table for the sides
   // of its vertices; another cell of up to 4 faces is chained in registers at a fixed width
-  // (no branch on the cut's length), a larger one through a per-section-vertex step map
-  // (stamped per cell). All decide alike.
-  const std::uint32_t spare = static_cast<std::uint32_t>(out.vertex_source.size());
-  if (loop_step_.size() < spare + 1) loop_step_.resize(spare + 1, LoopStep{0, 0, 0});
+  // (no branch on the cut's length), a larger one from the steps its cut faces left in its
+  // bucket through a per-section-vertex step map (stamped per cell). All decide alike.
+  if (loop_step_.size() < count) loop_step_.resize(count, LoopStep{0, 0, 0});
   Incidence::Storage polys = out.boundary[1].storage();
   constexpr std::uint32_t kSlack = 4;  // (a fixed-width chain writes up to 4 entries)
   polys.ids.resize(cut_cells_bound + kSlack);
@@ -290,6 +315,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const poly_ids = polys.ids.data();
     std::int8_t* const poly_signs = polys.signs.data();
     std::uint32_t* const poly_off = polys.offsets.data();
+    poly_off[0] = 0;
     std::uint32_t* const src = out.source[2].data();
     std::uint32_t* const facet = facet_internal_.data();
     LoopStep* const step = loop_step_.data();
@@ -297,6 +323,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     const std::uint32_t* const solid_up_ids = above ? m.up_ids_[3].data() : nullptr;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     const std::uint32_t* const cell_off = C.offsets.data();
+    std::uint32_t* const fill = cell_fill_.data();
+    const CellStep* const bucket = cell_steps_.data();
     const std::uint32_t* const cell_faces = C.ids.data();
     const std::int8_t* const cell_signs = C.signs.data();
     const std::uint32_t* const face_edge = face_edge_.data();
@@ -327,44 +355,22 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         added = code & 7u;
         ok = added != 7;
       } else if (nfaces <= 4) {
+        fill[x] = 0;  // (its bucket is not read)
         ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
         const std::uint32_t st = stamp_;
-        // Every face without a branch per face: an uncut face writes its (dropped) step to the
-        // spare slot past the section's vertices; a cell of more than 16 faces, mostly uncut,
-        // first lists its cut ones (a branch-free compaction).
-        std::uint32_t lo = 0xffffffffu, ns = 0;
+        const std::uint32_t ns = fill[x];
+        fill[x] = 0;
+        const CellStep* const cs = bucket + b;
+        std::uint32_t lo = 0xffffffffu;
         bool pinch = false;
-        const std::uint32_t* pos = nullptr;
-        std::uint32_t count = nfaces;
-        if (nfaces > 16) {
-          if (cut_pos_.size() < nfaces + 1) cut_pos_.resize(nfaces + 1);
-          std::uint32_t* const list = cut_pos_.data();
-          std::uint32_t n = 0;
-          for (std::uint32_t i = 0; i < nfaces; ++i) {
-            list[n] = i;
-            n += face_edge[cell_faces[b + i]] != no_index;
-          }
-          pos = list;
-          count = n;
-        }
-        for (std::uint32_t k = 0; k < count; ++k) {
-          const std::uint32_t i = pos ? pos[k] : k;
-          const std::uint32_t se = face_edge[cell_faces[b + i]];
-          const std::uint32_t cut = se != no_index;
-          const std::uint32_t r = se & (0u - cut);
-          // The step's sign is minus the face's sign in the cell: forward when that is -1.
-          const std::uint32_t fwd =
-              static_cast<std::uint32_t>(static_cast<std::int32_t>(cell_signs[b + i]) >> 31);
-          const std::uint32_t ea = edge_row[2 * r], eb = edge_row[2 * r + 1];
-          const std::uint32_t t = eb ^ ((ea ^ eb) & fwd);
-          const std::uint32_t slot = cut ? t : spare;
-          pinch |= cut && step[slot].stamp == st;  // a pinch (or a face listed twice)
-          step[slot] = {st, ea ^ eb ^ t, r | (kFlip & ~fwd)};
-          lo = std::min(lo, cut ? t : 0xffffffffu);
-          ns += cut;
+        for (std::uint32_t k = 0; k < ns; ++k) {
+          const CellStep c = cs[k];
+          pinch |= step[c.tail].stamp == st;  // a pinch (or a face listed twice)
+          step[c.tail] = {st, c.head, c.edge};
+          lo = std::min(lo, c.tail);
         }
         ok = !pinch;
         ok = ok && ns >= 3;

@@ -268,6 +268,32 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
   out.facet_normals.clear();
 }
 
+void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+  // As start_buffers, except for what the kernel writes whole at its final size (vertices and
+  // their sources, coordinates, section edges, polygons, their sources, facet normals, the
+  // section-to-model maps): those keep their length, so that sizing them initialises only what
+  // they grow by.
+  const int n = m.dim_;
+  out.reused_topology = false;
+  out.general = false;
+  out.fallback = FallbackReason::None;
+  out.cache_valid_ = false;
+  out.dim = n - 1;
+  out.plane.normal = pl.plane->normal;
+  out.plane.offset = pl.offset;
+  out.frame_normal_.assign(pl.plane->normal.data(), pl.plane->normal.data() + n);
+  out.frame_basis_.assign(pl.basis, pl.basis + n * (n - 1));
+  const int top = std::max(1, std::min(m.top_ - 1, n - 1));
+  if (out.boundary.size() != static_cast<std::size_t>(top) ||
+      out.source.size() != static_cast<std::size_t>(top) + 1) {
+    out.set_ranks(top);
+    return;
+  }
+  for (std::size_t r = 2; r < out.boundary.size(); ++r) out.boundary[r].clear();
+  out.source[0].clear();
+  for (std::size_t r = 3; r < out.source.size(); ++r) out.source[r].clear();
+}
+
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);

@@ -264,6 +264,7 @@ class Slicer {
   void size_images(const SliceModel& m);  // (prepare leaves ranks 1, 2 to it in R^4)
   void clear_marks(const SliceModel& m);
   void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  void start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   // The crossing parameter of edge e from s_; false when it lies within the weld distance of
   // an end (the general path welds it).
   bool crossing(const SliceModel& m, std::uint32_t e, double* t) const;
@@ -389,11 +390,18 @@ class Slicer {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
   std::vector<std::uint32_t> face_ends_, face_edge_;
-  std::vector<std::uint64_t> face_list_;               // (face << 8) | count of the faces to cut
-  std::vector<std::uint64_t> visit_list_;              // (cell << 8) | mark of the cells to cut
-  std::vector<std::uint32_t> crossing_ids_, cut_pos_;  // cut_pos_: a large cell's cut faces
+  std::vector<std::uint64_t> face_list_;   // (face << 8) | count of the faces to cut
+  std::vector<std::uint64_t> visit_list_;  // (cell << 8) | mark of the cells to cut
+  std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
+  // Per model cell (not a table's tetrahedron) the steps its cut faces handed it (cell_fill_ of
+  // them, at the cell's boundary row's place in cell_steps_; zero between slices).
+  struct CellStep {
+    std::uint32_t tail, head, edge;
+  };
+  std::vector<CellStep> cell_steps_;
+  std::vector<std::uint32_t> cell_fill_;
   void
   forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
