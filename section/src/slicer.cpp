@@ -351,7 +351,37 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
                     c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
                     lo = _mm_set1_pd(-tol);
-      int on_bits = 0;
+      // Two vertices per lane pair, each lane the same operations in the same order (same
+      // bits); eight vertices' sides packed to bytes and stored at once. A side is the
+      // difference of the comparison masks (-1 below, 1 above, 0 on the plane).
+      const auto values = [&](std::uint32_t w) {
+        const double* x = P + 4 * w;
+        const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
+        const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
+        __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
+        h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
+        h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
+        h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
+        const __m128d sval = _mm_sub_pd(h, cd);
+        _mm_storeu_pd(sv + w, sval);
+        return _mm_sub_epi64(_mm_castpd_si128(_mm_cmplt_pd(sval, lo)),
+                             _mm_castpd_si128(_mm_cmpgt_pd(sval, hi)));
+      };
+      __m128i zeros = _mm_setzero_si128();  // (a byte per vertex: 0xff where on the plane)
+      for (; v + 8 <= nv; v += 8) {
+        // The low 32 bits of each 64-bit side, four vertices per register, then packed.
+        const auto low = [](__m128i a, __m128i b) {
+          return _mm_unpacklo_epi64(_mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 2, 0)),
+                                    _mm_shuffle_epi32(b, _MM_SHUFFLE(3, 3, 2, 0)));
+        };
+        const __m128i s03 = low(values(v), values(v + 2));
+        const __m128i s47 = low(values(v + 4), values(v + 6));
+        const __m128i w16 = _mm_packs_epi32(s03, s47);
+        const __m128i b8 = _mm_packs_epi16(w16, w16);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(sd + v), b8);
+        zeros = _mm_or_si128(zeros, _mm_cmpeq_epi8(b8, _mm_setzero_si128()));
+      }
+      int on_bits = _mm_movemask_epi8(zeros) & 0xff;
       for (; v + 2 <= nv; v += 2) {
         const double* x = P + 4 * v;
         const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
