@@ -155,11 +155,14 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // only its cut faces' steps, not its whole row.
   const bool buckets = m.tet_vertices_.empty();
   if (buckets) {
-    if (cell_fill_.size() < nc) cell_fill_.resize(nc, 0);
     if (cell_steps_.size() < C.ids.size()) cell_steps_.resize(C.ids.size());
+    if (cell_fill_model_ != m.serial_) {  // each cell's next free place: its bucket's start
+      cell_fill_.assign(C.offsets.begin(), C.offsets.end() - 1);
+      cell_fill_model_ = m.serial_;
+    }
   }
   auto stop = [this](int result) {
-    std::fill(cell_fill_.begin(), cell_fill_.end(), 0u);
+    cell_fill_model_ = 0;  // (the buckets' places are set again by the next slice)
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
@@ -249,7 +252,6 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const face_edge = face_edge_.data();
     std::uint32_t* const fill = cell_fill_.data();
     CellStep* const bucket = cell_steps_.data();
-    const std::uint32_t* const cell_off = C.offsets.data();
     bool bad = false;
     for (std::uint32_t se = 0; se < nse; ++se) {
       const std::uint64_t item = faces[se];
@@ -272,7 +274,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
           // The step's sign is minus the face's sign in the cell: forward when that is -1.
           const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
           const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
-          bucket[cell_off[y] + fill[y]++] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
+          bucket[fill[y]++] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
         }
       } else {
         for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
@@ -355,14 +357,14 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         added = code & 7u;
         ok = added != 7;
       } else if (nfaces <= 4) {
-        fill[x] = 0;  // (its bucket is not read)
+        fill[x] = b;  // (its bucket is not read)
         ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
         const std::uint32_t st = stamp_;
-        const std::uint32_t ns = fill[x];
-        fill[x] = 0;
+        const std::uint32_t ns = fill[x] - b;
+        fill[x] = b;
         const CellStep* const cs = bucket + b;
         std::uint32_t lo = 0xffffffffu;
         bool pinch = false;

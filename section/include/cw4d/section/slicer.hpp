@@ -395,13 +395,15 @@ class Slicer {
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
-  // Per model cell (not a table's tetrahedron) the steps its cut faces handed it (cell_fill_ of
-  // them, at the cell's boundary row's place in cell_steps_; zero between slices).
+  // Per model cell (not a table's tetrahedron) the steps its cut faces handed it, in
+  // cell_steps_ from the cell's boundary row's place up to cell_fill_ (which is that place
+  // between slices, for the model cell_fill_model_; 0: none).
   struct CellStep {
     std::uint32_t tail, head, edge;
   };
   std::vector<CellStep> cell_steps_;
   std::vector<std::uint32_t> cell_fill_;
+  std::uint64_t cell_fill_model_ = 0;
   void
   forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
