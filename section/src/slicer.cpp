@@ -250,29 +250,25 @@ void Slicer::size_images(const SliceModel& m) {
 }
 
 void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
-  const int n = m.dim_;
-  out.reused_topology = false;
-  out.general = false;
-  out.fallback = FallbackReason::None;
-  out.cache_valid_ = false;
-  out.dim = n - 1;
-  out.plane.normal = pl.plane->normal;
-  out.plane.offset = pl.offset;
-  out.frame_normal_.assign(pl.plane->normal.data(), pl.plane->normal.data() + n);
-  out.frame_basis_.assign(pl.basis, pl.basis + n * (n - 1));
+  start_kernel_buffers(m, pl, out);
+  // ... and the lists it keeps emptied as well: every table and list of the slice is empty.
   out.coords.clear();
   out.vertex_source.clear();
   section_edge_.clear();
   facet_internal_.clear();
-  out.set_ranks(std::max(1, std::min(m.top_ - 1, n - 1)));
   out.facet_normals.clear();
+  for (std::size_t r = 0; r < std::min<std::size_t>(2, out.boundary.size()); ++r)
+    out.boundary[r].clear();
+  for (std::size_t r = 1; r < std::min<std::size_t>(3, out.source.size()); ++r)
+    out.source[r].clear();
 }
 
 void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
-  // As start_buffers, except for what the kernel writes whole at its final size (vertices and
-  // their sources, coordinates, section edges, polygons, their sources, facet normals, the
-  // section-to-model maps): those keep their length, so that sizing them initialises only what
-  // they grow by.
+  // The buffers' plane, frame and flags, their tables and lists for the model's ranks, the
+  // tables above the polygons and the lists above theirs empty. What the kernel writes whole at
+  // its final size (vertices and their sources, coordinates, section edges, polygons, their
+  // sources, facet normals, the section-to-model maps) keeps its length, so that sizing it
+  // initialises only what it grows by (start_buffers empties those too).
   const int n = m.dim_;
   out.reused_topology = false;
   out.general = false;
@@ -347,7 +343,6 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     std::uint32_t v = 0;
 #if defined(__SSE2__)
     {
-      // Two vertices at a time, each lane the same operations in the same order (same bits).
       const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
                     c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
                     lo = _mm_set1_pd(-tol);
@@ -383,20 +378,12 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       }
       int on_bits = _mm_movemask_epi8(zeros) & 0xff;
       for (; v + 2 <= nv; v += 2) {
-        const double* x = P + 4 * v;
-        const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
-        const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
-        __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
-        h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
-        h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
-        h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
-        const __m128d sval = _mm_sub_pd(h, cd);
-        _mm_storeu_pd(sv + v, sval);
-        const int gt = _mm_movemask_pd(_mm_cmpgt_pd(sval, hi));
-        const int lt = _mm_movemask_pd(_mm_cmplt_pd(sval, lo));
-        sd[v] = static_cast<std::int8_t>((gt & 1) - (lt & 1));
-        sd[v + 1] = static_cast<std::int8_t>((gt >> 1) - (lt >> 1));
-        on_bits |= ~(gt | lt) & 3;
+        const __m128i sides = values(v);
+        const int s0 = _mm_cvtsi128_si32(sides);
+        const int s1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(sides, _MM_SHUFFLE(3, 3, 3, 2)));
+        sd[v] = static_cast<std::int8_t>(s0);
+        sd[v + 1] = static_cast<std::int8_t>(s1);
+        on_bits |= (s0 == 0) | (s1 == 0);
       }
       on = on_bits != 0;
     }
