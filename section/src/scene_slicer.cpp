@@ -3,7 +3,6 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -53,26 +52,56 @@ struct SceneSlicer::Placements {
   std::vector<Slicer::Placement> pl;
   std::vector<char> fresh;  // slots made in this slice (their set() is still to run)
   // Culling for the same normal: the objects by height n.c (key sorted, order their indices),
-  // the largest sum |n_j c_j| and reach, the objects the previous call touched.
+  // the largest sum |n_j c_j| and reach.
   std::size_t calls = 0;
   std::vector<double> key;
-  std::vector<std::uint32_t> order, previous;
+  std::vector<std::uint32_t> order;
   double scale = 0.0, max_reach = 0.0;
 };
 
-void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads,
+// out.buffers[k] holds what the previous call into out cut for object out.objects[k]: an object
+// touched again takes its own buffers, the others those left over, then the spares; buffers
+// left after that become spares. (Only the storage and the topology cache depend on which
+// buffers an object gets, not the result.)
+void SceneSlicer::arrange(SceneSlice& out) {
+  std::vector<SliceBuffers>& held = out.buffers;
+  const std::size_t n = touched_.size();
+  const std::size_t m = std::min(out.objects.size(), held.size());
+  if (m == n && held.size() == n &&
+      std::equal(touched_.begin(), touched_.end(), out.objects.begin()))
+    return;
+  // Both lists increase: one merge pass pairs them; every held entry is taken or left once.
+  arranged_.resize(n);
+  need_.clear();
+  left_.clear();
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (i < m && out.objects[i] < touched_[k]) left_.push_back(static_cast<std::uint32_t>(i++));
+    if (i < m && out.objects[i] == touched_[k])
+      std::swap(arranged_[k], held[i++]);
+    else
+      need_.push_back(static_cast<std::uint32_t>(k));
+  }
+  for (; i < held.size(); ++i) left_.push_back(static_cast<std::uint32_t>(i));
+  std::size_t next = 0;
+  for (std::uint32_t k : need_) {
+    if (next < left_.size()) {
+      std::swap(arranged_[k], held[left_[next++]]);
+    } else if (!spare_.empty()) {
+      std::swap(arranged_[k], spare_.back());
+      spare_.pop_back();
+    }
+  }
+  for (; next < left_.size(); ++next) spare_.push_back(std::move(held[left_[next]]));
+  held.swap(arranged_);
+}
+
+void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
                         const SliceOptions& options) {
   if (!objects_.empty() && plane.dim() != dim_)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
   const std::size_t count = objects_.size();
-  // Whether out is the vector the previous call left: only then do its culled marks hold.
-  const bool same = call_ != 0 && out.size() == count && count > 0 && out[0].scene_call_ == call_;
-  out.resize(count);
-  if (!same) marked_.assign(count, 0);
-  static std::atomic<std::uint64_t> calls{0};
-  call_ = ++calls;
-  if (count > 0) out[0].scene_call_ = call_;
   if (!placements_) placements_ = std::make_shared<Placements>();
   Placements& cache = *placements_;
   if (cache.slot.size() != count) cache.slot.assign(count, no_index), cache.used.clear();
@@ -96,23 +125,12 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
     for (int j = 0; j < dim; ++j) dist += nrm[j] * c[j];
     return std::abs(dist) > reach[i];
   };
-  auto mark_empty = [&](std::size_t i) {  // a culled object's buffers, once
-    marked_[i] = 1;
-    SliceBuffers& b = out[i];
-    clear_to_empty(b, dim_ - 1);
-    b.plane = plane;
-    b.general = !objects_[i].model->fast();  // as the general path's empty result
-    b.fallback = b.general ? FallbackReason::Model : FallbackReason::None;
-    b.reused_topology = false;
-    b.culled = true;
-  };
   ++cache.calls;
-  if (options.cull && same && cache.calls >= 2 && count >= 256) {
-    // The same normal again (a sweep or an animation of the offset) into the same vector: the
-    // objects by height n.c (sorted once per normal), so only those whose height lies within
-    // the largest reach (plus far more than the rounding of either sum) of the offset are
-    // tested, and only those touched by the previous call emptied; every other object was
-    // culled and marked before and costs nothing.
+  if (options.cull && cache.calls >= 2 && count >= 256) {
+    // The same normal again (a sweep or an animation of the offset): the objects by height n.c
+    // (sorted once per normal), so only those whose height lies within the largest reach (plus
+    // far more than the rounding of either sum) of the offset are tested; every other object
+    // costs nothing.
     if (cache.order.empty()) {
       cache.key.resize(count);
       cache.order.resize(count);
@@ -142,22 +160,13 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
       if (!culled(i)) touched_.push_back(i);
     }
     std::sort(touched_.begin(), touched_.end());
-    for (std::uint32_t i : touched_) marked_[i] = 2;
-    for (std::uint32_t i : cache.previous)
-      if (marked_[i] != 2) mark_empty(i);
-    for (std::uint32_t i : touched_) marked_[i] = 0;
   } else {
-    // Every object's sphere: a culled object's buffers are written only when not yet marked.
-    for (std::size_t i = 0; i < count; ++i) {
-      if (!options.cull || !culled(i)) {
-        touched_.push_back(static_cast<std::uint32_t>(i));
-        marked_[i] = 0;
-      } else if (!marked_[i]) {
-        mark_empty(i);
-      }
-    }
+    for (std::size_t i = 0; i < count; ++i)
+      if (!options.cull || !culled(i)) touched_.push_back(static_cast<std::uint32_t>(i));
   }
-  cache.previous = touched_;
+  arrange(out);
+  out.objects.assign(touched_.begin(), touched_.end());
+  out.plane = plane;
   // Placements: slots for the touched objects that have none for this normal.
   cache.fresh.assign(cache.pl.size(), 0);
   for (std::uint32_t i : touched_)
@@ -175,8 +184,7 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
     for (std::size_t j = b; j < e; ++j) {
       const std::uint32_t i = touched_[j];
       const Object& obj = objects_[i];
-      SliceBuffers& o = out[i];
-      o.culled = false;
+      SliceBuffers& o = out.buffers[j];
       const std::uint32_t slot = cache.slot[i];
       if (slot == no_index || plane.dim() != obj.model->dim()) {
         slicers_[t].slice(*obj.model, plane, obj.transform, o, options);
@@ -187,11 +195,29 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
       slicers_[t].slice_with(*obj.model, pl, plane, &obj.transform, o, options);
     }
   };
-  // Blocks of consecutive touched objects; each thread writes only its own entries of out
-  // (and its objects' placements).
+  // Blocks of consecutive touched objects; each thread writes only its own entries of
+  // out.buffers (and its objects' placements).
   const std::size_t n = touched_.size();
   const std::size_t per = (n + threads - 1) / threads;
   fork_join(threads, [&](unsigned t) { run(t, std::min(n, t * per), std::min(n, (t + 1) * per)); });
+}
+
+std::vector<Section> to_sections(const SceneSlice& slice, std::size_t count) {
+  if (count == 0) return {};
+  SliceBuffers none;
+  clear_to_empty(none, static_cast<int>(slice.plane.dim()) - 1);
+  none.plane = slice.plane;
+  const Section empty = to_section(none);
+  std::vector<Section> pieces;
+  pieces.reserve(count);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (k < slice.objects.size() && slice.objects[k] == i)
+      pieces.push_back(to_section(slice.buffers[k++]));
+    else
+      pieces.push_back(empty);
+  }
+  return pieces;
 }
 
 }  // namespace cw4d
