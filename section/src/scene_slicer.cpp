@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -50,13 +52,23 @@ struct SceneSlicer::Placements {
   Eigen::VectorXd normal;
   std::vector<std::uint32_t> slot, used;
   std::vector<Slicer::Placement> pl;
-  std::vector<char> fresh;  // slots made in this slice (their set() is still to run)
   // Culling for the same normal: the objects by height n.c (key sorted, order their indices),
-  // the largest sum |n_j c_j| and reach.
+  // the largest sum |n_j c_j| and reach; a bit per object (all clear between calls) that
+  // lists the touched ones in increasing order.
   std::size_t calls = 0;
   std::vector<double> key;
   std::vector<std::uint32_t> order;
+  std::vector<std::uint64_t> bits;
   double scale = 0.0, max_reach = 0.0;
+  // Per touched object (in the order of the output), what the slice reads: read from the
+  // per-object arrays in one pass, so that cutting reads them contiguously.
+  struct Job {
+    const SliceModel* model;
+    const AffineTransform* transform;
+    std::uint32_t slot;  // no_index: no placement (the plain slice)
+    bool fresh;          // the placement is new (its set() is still to run)
+  };
+  std::vector<Job> jobs;
 };
 
 // out.buffers[k] holds what the previous call into out cut for object out.objects[k]: an object
@@ -155,11 +167,21 @@ void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threa
     const double margin = cache.max_reach + 1e-12 * (std::abs(plane.offset) + cache.scale);
     const auto lo = std::lower_bound(cache.key.begin(), cache.key.end(), plane.offset - margin);
     const auto hi = std::upper_bound(lo, cache.key.end(), plane.offset + margin);
+    // The touched ones as bits, listed in increasing order from the words between the first
+    // and the last (and cleared on the way).
+    cache.bits.resize((count + 63) / 64);
+    std::uint64_t* bits = cache.bits.data();
+    std::size_t first = count, last = 0;
     for (auto k = lo; k != hi; ++k) {
       const std::uint32_t i = cache.order[static_cast<std::size_t>(k - cache.key.begin())];
-      if (!culled(i)) touched_.push_back(i);
+      if (culled(i)) continue;
+      bits[i / 64] |= std::uint64_t{1} << (i % 64);
+      first = std::min<std::size_t>(first, i);
+      last = std::max<std::size_t>(last, i);
     }
-    std::sort(touched_.begin(), touched_.end());
+    for (std::size_t w = first / 64; first <= last && w <= last / 64; ++w)
+      for (std::uint64_t b = std::exchange(bits[w], 0); b != 0; b &= b - 1)
+        touched_.push_back(static_cast<std::uint32_t>(w * 64 + std::countr_zero(b)));
   } else {
     for (std::size_t i = 0; i < count; ++i)
       if (!options.cull || !culled(i)) touched_.push_back(static_cast<std::uint32_t>(i));
@@ -167,32 +189,38 @@ void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threa
   arrange(out);
   out.objects.assign(touched_.begin(), touched_.end());
   out.plane = plane;
-  // Placements: slots for the touched objects that have none for this normal.
-  cache.fresh.assign(cache.pl.size(), 0);
-  for (std::uint32_t i : touched_)
-    if (cache.slot[i] == no_index && objects_[i].model->fast()) {
-      cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
+  // The jobs, with slots for the touched objects that have none for this normal.
+  cache.jobs.resize(touched_.size());
+  for (std::size_t j = 0; j < touched_.size(); ++j) {
+    const std::uint32_t i = touched_[j];
+    Placements::Job& job = cache.jobs[j];
+    const Object& obj = objects_[i];
+    job.model = obj.model;
+    job.transform = &obj.transform;
+    job.slot = cache.slot[i];
+    job.fresh = false;
+    if (job.slot == no_index && job.model->fast() && job.model->dim() == plane.dim()) {
+      job.slot = cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
+      job.fresh = true;
       cache.used.push_back(i);
       cache.pl.emplace_back();
-      cache.fresh.push_back(1);
     }
+  }
   threads = resolve_threads(threads);
   threads = static_cast<unsigned>(
       std::max<std::size_t>(1, std::min<std::size_t>(threads, touched_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
   auto run = [&](unsigned t, std::size_t b, std::size_t e) {
     for (std::size_t j = b; j < e; ++j) {
-      const std::uint32_t i = touched_[j];
-      const Object& obj = objects_[i];
+      const Placements::Job& job = cache.jobs[j];
       SliceBuffers& o = out.buffers[j];
-      const std::uint32_t slot = cache.slot[i];
-      if (slot == no_index || plane.dim() != obj.model->dim()) {
-        slicers_[t].slice(*obj.model, plane, obj.transform, o, options);
+      if (job.slot == no_index) {
+        slicers_[t].slice(*job.model, plane, *job.transform, o, options);
         continue;
       }
-      Slicer::Placement& pl = cache.pl[slot];
-      if (cache.fresh[slot]) pl.set(*obj.model, plane, &obj.transform);
-      slicers_[t].slice_with(*obj.model, pl, plane, &obj.transform, o, options);
+      Slicer::Placement& pl = cache.pl[job.slot];
+      if (job.fresh) pl.set(*job.model, plane, job.transform);
+      slicers_[t].slice_with(*job.model, pl, plane, job.transform, o, options);
     }
   };
   // Blocks of consecutive touched objects; each thread writes only its own entries of
