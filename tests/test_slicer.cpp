@@ -14,6 +14,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/scene.hpp"
+#include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
@@ -459,6 +460,11 @@ TEST_CASE("scenes: the touched objects' buffers are exactly slice()'s, the other
       threaded.slice(plane, out2, 2);
       require_listed(out2, threaded);
       REQUIRE(out2.objects == out.objects);
+      // A new SceneSlicer tests every sphere (its first call): the same list.
+      SceneSlicer once(scene);
+      SceneSlice first;
+      once.slice(plane, first, 1);
+      REQUIRE(first.objects == out.objects);
       REQUIRE(out.plane.normal == plane.normal);
       REQUIRE(out.plane.offset == plane.offset);
       sizes_seen += out.size() != last_size;
@@ -501,6 +507,64 @@ TEST_CASE("scenes: the touched objects' buffers are exactly slice()'s, the other
     REQUIRE(pieces[i].frame.plane.normal == out.plane.normal);
     REQUIRE(pieces[i].frame.basis == expect.frame.basis);
   }
+}
+
+TEST_CASE("scenes: culling by height decides as the sphere test at the spheres' edges",
+          "[slicer][scene]") {
+  // Objects whose bounding spheres end within a few ulps of the plane (and others far from
+  // it), so that rounding decides: the repeated normal's culling (objects sorted by height)
+  // must give the list of the full sphere test of a first call, object for object.
+  std::mt19937 rng(8117);
+  const auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  const SliceModel model(*tesseract);
+  const double r = model.radius();
+  REQUIRE(model.centre().norm() == 0.0);  // the centre is the translation
+  const Eigen::VectorXd n = test::random_unit(rng, 4);
+  const double d = 3.7;
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  std::uniform_int_distribution<int> ulps(-6, 6);
+  Scene scene;
+  std::size_t near = 0;
+  for (int i = 0; i < 400; ++i) {
+    Eigen::VectorXd p(4);
+    p << u(rng), u(rng), u(rng), u(rng);
+    p -= n.dot(p) * n;  // across the normal
+    double h = u(rng);
+    if (i % 2 == 0) {
+      // Height d +- reach, the reach as SceneSlicer computes it (rigid: the model's radius),
+      // then moved by a few ulps.
+      const double side = i % 4 == 0 ? 1.0 : -1.0;
+      for (int it = 0; it < 4; ++it) {
+        const Eigen::VectorXd c = p + h * n;
+        const double reach = r + tol::bounding_sphere_margin_rel * (r + c.norm());
+        h = d + side * reach;
+      }
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1)
+        h = std::nextafter(h, k > 0 ? 1e300 : -1e300);
+      ++near;
+    }
+    SceneObject obj;
+    obj.complex = tesseract;
+    obj.model = "tesseract";
+    obj.transform = AffineTransform::translation(p + h * n);
+    scene.objects.push_back(obj);
+  }
+  SceneSlicer by_height(scene);
+  SceneSlice out;
+  by_height.slice(Hyperplane::from(n, d + 1.0), out, 1);  // the first call with the normal
+  std::size_t in = 0;
+  for (double e : {0.0, 1e-15, -1e-15, 4e-16}) {
+    const Hyperplane plane = Hyperplane::from(n, d + e);
+    by_height.slice(plane, out, 1);
+    SceneSlicer full(scene);
+    SceneSlice first;
+    full.slice(plane, first, 1);
+    REQUIRE(out.objects == first.objects);
+    in += out.size();
+  }
+  CHECK(near == 200);
+  CHECK(in > 40);       // some spheres at the edge are kept,
+  CHECK(in < 4 * 150);  // some are not
 }
 
 TEST_CASE("scenes: an object cut again keeps its buffers and their topology cache",

@@ -39,7 +39,8 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
         Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
     const Eigen::VectorXd centre = obj.transform.apply(m.centre());
     const double radius = stretch * m.radius();
-    objects_.push_back({&m, obj.transform});
+    model_of_.push_back(&m);
+    transforms_.push_back(obj.transform);
     centres_.insert(centres_.end(), centre.data(), centre.data() + centre.size());
     // Culled when |n.c - d| > radius + margin (tol::bounding_sphere_margin_rel of the size).
     reach_.push_back(radius + tol::bounding_sphere_margin_rel * (radius + centre.norm()));
@@ -52,11 +53,11 @@ struct SceneSlicer::Placements {
   Eigen::VectorXd normal;
   std::vector<std::uint32_t> slot, used;
   std::vector<Slicer::Placement> pl;
-  // Culling for the same normal: the objects by height n.c (key sorted, order their indices),
-  // the largest sum |n_j c_j| and reach; a bit per object (all clear between calls) that
-  // lists the touched ones in increasing order.
+  // Culling for the same normal: the objects by height n.c (key sorted, order their indices,
+  // key_reach their reaches), the largest sum |n_j c_j| and reach; a bit per object (all
+  // clear between calls) that lists the touched ones in increasing order.
   std::size_t calls = 0;
-  std::vector<double> key;
+  std::vector<double> key, key_reach;
   std::vector<std::uint32_t> order;
   std::vector<std::uint64_t> bits;
   double scale = 0.0, max_reach = 0.0;
@@ -110,10 +111,10 @@ void SceneSlicer::arrange(SceneSlice& out) {
 
 void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
                         const SliceOptions& options) {
-  if (!objects_.empty() && plane.dim() != dim_)
+  if (!model_of_.empty() && plane.dim() != dim_)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
-  const std::size_t count = objects_.size();
+  const std::size_t count = model_of_.size();
   if (!placements_) placements_ = std::make_shared<Placements>();
   Placements& cache = *placements_;
   if (cache.slot.size() != count) cache.slot.assign(count, no_index), cache.used.clear();
@@ -161,20 +162,31 @@ void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threa
         return cache.key[a] < cache.key[b] || (cache.key[a] == cache.key[b] && a < b);
       });
       std::vector<double> sorted(count);
-      for (std::size_t k = 0; k < count; ++k) sorted[k] = cache.key[cache.order[k]];
+      cache.key_reach.resize(count);
+      for (std::size_t k = 0; k < count; ++k) {
+        sorted[k] = cache.key[cache.order[k]];
+        cache.key_reach[k] = reach[cache.order[k]];
+      }
       cache.key.swap(sorted);
     }
     const double margin = cache.max_reach + 1e-12 * (std::abs(plane.offset) + cache.scale);
     const auto lo = std::lower_bound(cache.key.begin(), cache.key.end(), plane.offset - margin);
     const auto hi = std::upper_bound(lo, cache.key.end(), plane.offset + margin);
+    // |height - d| against the reach decides alike with the culling test's own sum unless
+    // they differ by less than far more than the rounding of either: only those objects are
+    // tested (their centres read).
+    const double band = 1e-12 * (std::abs(plane.offset) + cache.scale + cache.max_reach);
     // The touched ones as bits, listed in increasing order from the words between the first
     // and the last (and cleared on the way).
     cache.bits.resize((count + 63) / 64);
     std::uint64_t* bits = cache.bits.data();
     std::size_t first = count, last = 0;
     for (auto k = lo; k != hi; ++k) {
-      const std::uint32_t i = cache.order[static_cast<std::size_t>(k - cache.key.begin())];
-      if (culled(i)) continue;
+      const std::size_t at = static_cast<std::size_t>(k - cache.key.begin());
+      const double gap = std::abs(*k - plane.offset) - cache.key_reach[at];
+      if (gap > band) continue;
+      const std::uint32_t i = cache.order[at];
+      if (gap >= -band && culled(i)) continue;
       bits[i / 64] |= std::uint64_t{1} << (i % 64);
       first = std::min<std::size_t>(first, i);
       last = std::max<std::size_t>(last, i);
@@ -194,9 +206,8 @@ void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threa
   for (std::size_t j = 0; j < touched_.size(); ++j) {
     const std::uint32_t i = touched_[j];
     Placements::Job& job = cache.jobs[j];
-    const Object& obj = objects_[i];
-    job.model = obj.model;
-    job.transform = &obj.transform;
+    job.model = model_of_[i];
+    job.transform = &transforms_[i];
     job.slot = cache.slot[i];
     job.fresh = false;
     if (job.slot == no_index && job.model->fast() && job.model->dim() == plane.dim()) {

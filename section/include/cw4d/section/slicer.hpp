@@ -416,7 +416,7 @@ std::vector<Section> to_sections(const SceneSlice& slice, std::size_t count);
 class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
-  std::size_t size() const { return objects_.size(); }
+  std::size_t size() const { return model_of_.size(); }
   /// Cuts the objects whose bounding sphere meets the plane (every object when options.cull is
   /// false) into `out`: out.objects lists them, out.buffers[k] is exactly what Slicer::slice
   /// gives for object out.objects[k] (identical for every thread count and with or without
@@ -438,14 +438,11 @@ class SceneSlicer {
   std::span<const std::uint32_t> touched_objects() const { return touched_; }
 
  private:
-  struct Object {
-    const SliceModel* model;
-    AffineTransform transform;  // copied: the scene may move its objects afterwards
-  };
   std::vector<std::unique_ptr<SliceModel>> models_;
-  std::vector<Object> objects_;
-  std::vector<double> centres_;  // world-space bounding-sphere centres, dim_ per object
-  std::vector<double> reach_;    // their radii plus the culling margin
+  std::vector<const SliceModel*> model_of_;  // per object
+  std::vector<AffineTransform> transforms_;  // copied: the scene may move its objects afterwards
+  std::vector<double> centres_;              // world-space bounding-sphere centres, dim_ per object
+  std::vector<double> reach_;                // their radii plus the culling margin
   std::vector<Slicer> slicers_;
   std::vector<std::uint32_t> touched_;
   // Buffers between calls: those no object of the output needs (their storage kept), and the
