@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -326,6 +327,26 @@ TEST_CASE("the topology cache reuses connectivity only when it is exact", "[slic
   }
 }
 
+// count objects placed at random in the box [-half, half]^4, turned and (every mirror_every-th)
+// mirrored; object i shows model(i).
+Scene random_scene(std::mt19937& rng, int count, double half,
+                   const std::function<std::shared_ptr<const Complex>(int)>& model,
+                   int mirror_every) {
+  Scene scene;
+  std::uniform_real_distribution<double> u(-half, half);
+  for (int i = 0; i < count; ++i) {
+    SceneObject obj;
+    obj.complex = model(i);
+    obj.model = "m";
+    Eigen::VectorXd t(4);
+    t << u(rng), u(rng), u(rng), u(rng);
+    obj.transform =
+        AffineTransform::translation(t) * random_placement(rng, 4, i % mirror_every == 0);
+    scene.objects.push_back(obj);
+  }
+  return scene;
+}
+
 // The object indices a SceneSlice holds, checked against the slicer's own list.
 void require_listed(const SceneSlice& out, const SceneSlicer& slicer) {
   REQUIRE(out.buffers.size() == out.objects.size());
@@ -338,19 +359,10 @@ void require_listed(const SceneSlice& out, const SceneSlicer& slicer) {
 
 TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]") {
   std::mt19937 rng(8106);
-  Scene scene;
   auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
   auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
-  std::uniform_real_distribution<double> u(-20.0, 20.0);
-  for (int i = 0; i < 300; ++i) {
-    SceneObject obj;
-    obj.complex = i % 3 == 0 ? cell24 : tesseract;
-    obj.model = i % 3 == 0 ? "24-cell" : "tesseract";
-    Eigen::VectorXd t(4);
-    t << u(rng), u(rng), u(rng), u(rng);
-    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
-    scene.objects.push_back(obj);
-  }
+  const Scene scene = random_scene(
+      rng, 300, 20.0, [&](int i) { return i % 3 == 0 ? cell24 : tesseract; }, 7);
   SceneSlicer slicer(scene);
   SliceOptions plain;
   plain.cull = false;
@@ -428,20 +440,15 @@ TEST_CASE("scenes: the touched objects' buffers are exactly slice()'s, the other
   // its own Slicer (the oracle); every object left out must have the empty section there
   // (culling never drops a cut); the list is increasing and the same for 1 and 2 threads.
   std::mt19937 rng(8110);
-  Scene scene;
   auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
   auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
   auto cell600 = std::make_shared<const Complex>(load_model("600-cell"));
-  std::uniform_real_distribution<double> u(-12.0, 12.0);
-  for (int i = 0; i < 300; ++i) {  // (from 256 objects a repeated normal culls by height)
-    SceneObject obj;
-    obj.complex = i % 5 == 0 ? cell600 : i % 3 == 0 ? cell24 : tesseract;
-    obj.model = "m";
-    Eigen::VectorXd t(4);
-    t << u(rng), u(rng), u(rng), u(rng);
-    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
-    scene.objects.push_back(obj);
-  }
+  // (from 256 objects a repeated normal culls by height)
+  const Scene scene = random_scene(
+      rng, 300, 12.0, [&](int i) { return i % 5 == 0   ? cell600
+                                          : i % 3 == 0 ? cell24
+                                                       : tesseract; },
+      7);
   std::vector<std::unique_ptr<SliceModel>> models;
   std::vector<Slicer> oracle(scene.objects.size());
   for (const SceneObject& obj : scene.objects)
@@ -574,19 +581,10 @@ TEST_CASE("scenes: an object cut again keeps its buffers and their topology cach
   // exact, and each object whose buffers were a fast slice with the cache before is answered
   // by the cache (the sides cannot change for the same plane).
   std::mt19937 rng(8114);
-  Scene scene;
   auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
   auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
-  std::uniform_real_distribution<double> u(-10.0, 10.0);
-  for (int i = 0; i < 280; ++i) {
-    SceneObject obj;
-    obj.complex = i % 4 == 0 ? cell24 : tesseract;
-    obj.model = "m";
-    Eigen::VectorXd t(4);
-    t << u(rng), u(rng), u(rng), u(rng);
-    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 5 == 0);
-    scene.objects.push_back(obj);
-  }
+  const Scene scene = random_scene(
+      rng, 280, 10.0, [&](int i) { return i % 4 == 0 ? cell24 : tesseract; }, 5);
   std::vector<std::unique_ptr<SliceModel>> models;
   for (const SceneObject& obj : scene.objects) {
     models.push_back(std::make_unique<SliceModel>(*obj.complex));
