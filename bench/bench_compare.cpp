@@ -17,7 +17,7 @@
 //             the sweep's own speed-up)
 // And a scene (scene1pct/): 10^4 randomly turned tesseracts and 24-cells scattered in a box
 // 400 x 40 x 40 x 8, the plane x ~ 200 touching about 1 % of them:
-//   cull      SceneSlicer::slice of the whole scene into the same vector of buffers
+//   cull      SceneSlicer::slice of the whole scene into the same output
 //   touched   SceneSlicer::slice of a scene of only the objects `cull` touched (the floor:
 //             what `cull` costs beyond it is the culled objects' cost)
 //   pairs     the two calls alternating (cull then touched, touched then cull, ...), each
@@ -235,6 +235,20 @@ cw4d::Scene scattered_scene(std::size_t count, const double box[4], std::uint32_
   return scene;
 }
 
+// The output of SceneSlicer::slice: the touched objects' sections (newer trees) or one entry
+// per object.
+#ifdef CW4D_SCENE_SLICE
+using SceneOutput = cw4d::SceneSlice;
+std::size_t entries(const SceneOutput& out) {
+  return out.buffers.size();
+}
+#else
+using SceneOutput = std::vector<cw4d::SliceBuffers>;
+std::size_t entries(const SceneOutput& out) {
+  return out.size();
+}
+#endif
+
 void run_scene() {
   if (!wanted("scene1pct/cull") && !wanted("scene1pct/touched") && !wanted("scene1pct/pairs"))
     return;
@@ -244,7 +258,7 @@ void run_scene() {
   n << 1.0, 0.01, 0.02, 0.015;
   const cw4d::Hyperplane plane = cw4d::Hyperplane::from(n, 200.0);
   cw4d::SceneSlicer all(scene);
-  std::vector<cw4d::SliceBuffers> out;
+  SceneOutput out;
   all.slice(plane, out);
   // The objects SceneSlicer's sphere test keeps (rigid placements: the radius is the model's),
   // computed here so that both builds get the same scene.
@@ -259,17 +273,17 @@ void run_scene() {
   }
   if (touched.objects.size() != all.touched()) std::fprintf(stderr, "scene: touched differ\n");
   cw4d::SceneSlicer few(touched);
-  std::vector<cw4d::SliceBuffers> out_few;
+  SceneOutput out_few;
   if (wanted("scene1pct/cull"))
     report("scene1pct/cull", time_per_op([&](std::size_t) {
              all.slice(plane, out);
-             g_sink += out.size();
+             g_sink += entries(out);
            }),
            static_cast<double>(all.touched()));
   if (wanted("scene1pct/touched"))
     report("scene1pct/touched", time_per_op([&](std::size_t) {
              few.slice(plane, out_few);
-             g_sink += out_few.size();
+             g_sink += entries(out_few);
            }),
            static_cast<double>(touched.objects.size()));
   if (wanted("scene1pct/pairs")) {

@@ -175,13 +175,13 @@ void scene_slice(benchmark::State& state, bool many, bool cull, unsigned threads
   const cw4d::Hyperplane plane = scene_plane(many);
   cw4d::SliceOptions options;
   options.cull = cull;
-  std::vector<cw4d::SliceBuffers> out;
+  cw4d::SceneSlice out;
   slicer.slice(plane, out, threads, options);
   std::size_t hit = 0;
-  for (const auto& b : out) hit += !b.empty();
+  for (const auto& b : out.buffers) hit += !b.empty();
   for (auto _ : state) {
     slicer.slice(plane, out, threads, options);
-    benchmark::DoNotOptimize(out.data());
+    benchmark::DoNotOptimize(out.buffers.data());
   }
   cw4d::SceneSlicer culling(scene());
   culling.slice(plane, out, 1);

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/scene.hpp"
+#include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
@@ -324,39 +327,73 @@ TEST_CASE("the topology cache reuses connectivity only when it is exact", "[slic
   }
 }
 
-TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]") {
-  std::mt19937 rng(8106);
+// count objects placed at random in the box [-half, half]^4, turned and (every mirror_every-th)
+// mirrored; object i shows model(i).
+Scene random_scene(std::mt19937& rng, int count, double half,
+                   const std::function<std::shared_ptr<const Complex>(int)>& model,
+                   int mirror_every) {
   Scene scene;
-  auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
-  auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
-  std::uniform_real_distribution<double> u(-20.0, 20.0);
-  for (int i = 0; i < 300; ++i) {
+  std::uniform_real_distribution<double> u(-half, half);
+  for (int i = 0; i < count; ++i) {
     SceneObject obj;
-    obj.complex = i % 3 == 0 ? cell24 : tesseract;
-    obj.model = i % 3 == 0 ? "24-cell" : "tesseract";
+    obj.complex = model(i);
+    obj.model = "m";
     Eigen::VectorXd t(4);
     t << u(rng), u(rng), u(rng), u(rng);
-    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
+    obj.transform =
+        AffineTransform::translation(t) * random_placement(rng, 4, i % mirror_every == 0);
     scene.objects.push_back(obj);
   }
+  return scene;
+}
+
+// The object indices a SceneSlice holds, checked against the slicer's own list.
+void require_listed(const SceneSlice& out, const SceneSlicer& slicer) {
+  REQUIRE(out.buffers.size() == out.objects.size());
+  REQUIRE(std::is_sorted(out.objects.begin(), out.objects.end()));
+  REQUIRE(std::adjacent_find(out.objects.begin(), out.objects.end()) == out.objects.end());
+  const auto list = slicer.touched_objects();
+  REQUIRE(list.size() == slicer.touched());
+  REQUIRE(std::equal(list.begin(), list.end(), out.objects.begin(), out.objects.end()));
+}
+
+TEST_CASE("scenes: culling and threads give the plain buffers", "[slicer][scene]") {
+  std::mt19937 rng(8106);
+  auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
+  const Scene scene = random_scene(
+      rng, 300, 20.0, [&](int i) { return i % 3 == 0 ? cell24 : tesseract; }, 7);
   SceneSlicer slicer(scene);
   SliceOptions plain;
   plain.cull = false;
   std::size_t touched = 0;
   for (int i = 0; i < 10; ++i) {
     const Hyperplane plane = random_plane(rng, 4, 20.0);
-    std::vector<SliceBuffers> a, b, c;
+    SceneSlice a, b, c;
     slicer.slice(plane, a, 1);
+    require_listed(a, slicer);
     touched += slicer.touched();
     slicer.slice(plane, b, 1, plain);
-    REQUIRE(slicer.touched() == scene.objects.size());
+    require_listed(b, slicer);
+    REQUIRE(b.size() == scene.objects.size());
     slicer.slice(plane, c, 2);
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      require_identical(a[k], b[k]);
-      require_identical(a[k], c[k]);
+    REQUIRE(c.objects == a.objects);
+    // Every object in b; the culled ones (not in a) with the empty section.
+    std::size_t k = 0;
+    for (std::size_t obj = 0; obj < scene.objects.size(); ++obj) {
+      REQUIRE(b.objects[obj] == obj);
+      if (k < a.size() && a.objects[k] == obj) {
+        require_identical(a.buffers[k], b.buffers[obj]);
+        require_identical(a.buffers[k], c.buffers[k]);
+        ++k;
+      } else {
+        REQUIRE(b.buffers[obj].empty());
+      }
     }
+    REQUIRE(k == a.size());
     // And the Section API (section_objects) agrees with the per-object section().
     const auto pieces = section_objects(scene, plane);
+    REQUIRE(pieces.size() == scene.objects.size());
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const Section one = section(*scene.objects[k].complex, plane, scene.objects[k].transform);
       REQUIRE(pieces[k].complex.count(2) == one.complex.count(2));
@@ -385,101 +422,223 @@ TEST_CASE("scenes with the topology cache stay exact across culled frames",
   reuse.reuse_topology = true;
   Eigen::VectorXd n(4);
   n << 0.3, 0.2, 0.1, 1.0;
-  std::vector<SliceBuffers> a, b;
+  SceneSlice a, b;
   const double offsets[] = {0.1, 0.1001, 50.0, 0.1, 3.2, 0.1002, 6.1, 6.1001, -9.0, 6.1};
   for (double d : offsets) {
     const Hyperplane plane = Hyperplane::from(n, d);
     cached.slice(plane, a, 1, reuse);
     fresh.slice(plane, b, 1);
-    for (std::size_t k = 0; k < a.size(); ++k) require_identical(a[k], b[k]);
+    REQUIRE(a.objects == b.objects);
+    for (std::size_t k = 0; k < a.size(); ++k) require_identical(a.buffers[k], b.buffers[k]);
   }
 }
 
-TEST_CASE("scenes: culled buffers are written once, touched ones exactly as slice()",
+TEST_CASE("scenes: the touched objects' buffers are exactly slice()'s, the others' empty",
           "[slicer][scene]") {
-  // One vector of buffers reused across planes: animations of the offset (the placements are
-  // kept), then new normals. Every touched object must be exactly Slicer::slice of its model;
-  // every culled one empty, marked, and left as the slice that culled it first wrote it; the
-  // touched list is the unmarked objects in increasing order; the plain call must give the
-  // empty section for every culled object (culling never drops a cut).
+  // One SceneSlice reused across planes: animations of the offset (the placements are kept),
+  // then new normals. Every touched object must be exactly Slicer::slice of its own model by
+  // its own Slicer (the oracle); every object left out must have the empty section there
+  // (culling never drops a cut); the list is increasing and the same for 1 and 2 threads.
   std::mt19937 rng(8110);
-  Scene scene;
   auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
   auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
   auto cell600 = std::make_shared<const Complex>(load_model("600-cell"));
-  std::uniform_real_distribution<double> u(-12.0, 12.0);
-  for (int i = 0; i < 300; ++i) {  // (from 256 objects a repeated normal culls by height)
-    SceneObject obj;
-    obj.complex = i % 5 == 0 ? cell600 : i % 3 == 0 ? cell24 : tesseract;
-    obj.model = "m";
-    Eigen::VectorXd t(4);
-    t << u(rng), u(rng), u(rng), u(rng);
-    obj.transform = AffineTransform::translation(t) * random_placement(rng, 4, i % 7 == 0);
-    scene.objects.push_back(obj);
-  }
+  // (from 256 objects a repeated normal culls by height)
+  const Scene scene = random_scene(
+      rng, 300, 12.0, [&](int i) { return i % 5 == 0   ? cell600
+                                          : i % 3 == 0 ? cell24
+                                                       : tesseract; },
+      7);
+  std::vector<std::unique_ptr<SliceModel>> models;
+  std::vector<Slicer> oracle(scene.objects.size());
+  for (const SceneObject& obj : scene.objects)
+    models.push_back(std::make_unique<SliceModel>(*obj.complex));
   SceneSlicer slicer(scene), threaded(scene);
-  std::vector<SliceBuffers> out, out2;
-  std::vector<Hyperplane> culled_by(scene.objects.size());
-  std::vector<char> was_culled(scene.objects.size(), 0);
-  Slicer plain;
+  SceneSlice out, out2;
   SliceBuffers one;
-  std::size_t touched_total = 0, culled_total = 0, kept = 0;
+  std::size_t touched_total = 0, culled_total = 0, sizes_seen = 0;
+  std::size_t last_size = 0;
   for (int normal_round = 0; normal_round < 4; ++normal_round) {
     const Eigen::VectorXd n = test::random_unit(rng, 4);
     for (int step = 0; step < 12; ++step) {
       const Hyperplane plane = Hyperplane::from(n, -12.0 + 2.0 * step + 0.37 * normal_round);
       slicer.slice(plane, out, 1);
+      require_listed(out, slicer);
       threaded.slice(plane, out2, 2);
-      const auto list = slicer.touched_objects();
-      REQUIRE(list.size() == slicer.touched());
-      REQUIRE(std::is_sorted(list.begin(), list.end()));
-      std::vector<char> touched(scene.objects.size(), 0);
-      for (std::uint32_t i : list) touched[i] = 1;
+      require_listed(out2, threaded);
+      REQUIRE(out2.objects == out.objects);
+      // A new SceneSlicer tests every sphere (its first call): the same list.
+      SceneSlicer once(scene);
+      SceneSlice first;
+      once.slice(plane, first, 1);
+      REQUIRE(first.objects == out.objects);
+      REQUIRE(out.plane.normal == plane.normal);
+      REQUIRE(out.plane.offset == plane.offset);
+      sizes_seen += out.size() != last_size;
+      last_size = out.size();
+      std::size_t k = 0;
       for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         INFO("object " << i);
-        const SceneObject& obj = scene.objects[i];
-        const SliceModel model(*obj.complex);
-        plain.slice(model, plane, obj.transform, one);
-        REQUIRE(out[i].culled == !touched[i]);
-        REQUIRE(out2[i].culled == out[i].culled);
-        if (touched[i]) {
-          require_identical(out[i], one);
-          REQUIRE(out[i].fallback == one.fallback);
-          require_identical(out2[i], one);
-          was_culled[i] = 0;
+        oracle[i].slice(*models[i], plane, scene.objects[i].transform, one);
+        if (k < out.size() && out.objects[k] == i) {
+          require_identical(out.buffers[k], one);
+          REQUIRE(out.buffers[k].fallback == one.fallback);
+          REQUIRE(out.buffers[k].reused_topology == false);
+          require_identical(out2.buffers[k], one);
+          ++k;
           ++touched_total;
-          continue;
-        }
-        ++culled_total;
-        REQUIRE(one.empty());
-        REQUIRE(out[i].empty());
-        REQUIRE(out[i].count(1) == 0);
-        REQUIRE(out[i].dim == 3);
-        if (!was_culled[i]) {
-          culled_by[i] = plane;  // written now
-          was_culled[i] = 1;
         } else {
-          ++kept;  // not rewritten since
+          REQUIRE(one.empty());
+          ++culled_total;
         }
-        REQUIRE(out[i].plane.normal == culled_by[i].normal);
-        REQUIRE(out[i].plane.offset == culled_by[i].offset);
       }
     }
   }
   CHECK(touched_total > 500);
   CHECK(culled_total > 5000);
-  CHECK(kept > 3000);
-  // A new vector (or one that a plain slice wrote into) is written whole again.
-  std::vector<SliceBuffers> fresh;
-  const Hyperplane plane = Hyperplane::from(test::random_unit(rng, 4), 1.0);
-  slicer.slice(plane, fresh, 1);
-  plain.slice(SliceModel(*scene.objects[0].complex), plane, scene.objects[0].transform, fresh[0]);
-  slicer.slice(plane, fresh, 1);
-  for (std::size_t i = 0; i < fresh.size(); ++i)
-    if (fresh[i].culled) {
-      REQUIRE(fresh[i].empty());
-      REQUIRE(fresh[i].plane.offset == plane.offset);
+  CHECK(sizes_seen > 20);  // the touched list grew and shrank
+  // to_sections: one Section per object, to_section of the touched ones' buffers, the empty
+  // section in the plane's frame for the others (as section() of a missed object).
+  const auto pieces = to_sections(out, scene.objects.size());
+  REQUIRE(pieces.size() == scene.objects.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const bool listed = k < out.size() && out.objects[k] == i;
+    const Section expect =
+        listed ? to_section(out.buffers[k++])
+               : section(*scene.objects[i].complex, out.plane, scene.objects[i].transform);
+    REQUIRE(pieces[i].complex.fvector() == expect.complex.fvector());
+    REQUIRE(pieces[i].complex.ambient_dim() == 3);
+    REQUIRE(pieces[i].complex.positions() == expect.complex.positions());
+    REQUIRE(pieces[i].source == expect.source);
+    REQUIRE(pieces[i].frame.plane.normal == out.plane.normal);
+    REQUIRE(pieces[i].frame.basis == expect.frame.basis);
+  }
+}
+
+TEST_CASE("scenes: culling by height decides as the sphere test at the spheres' edges",
+          "[slicer][scene]") {
+  // Objects whose bounding spheres end within a few ulps of the plane (and others far from
+  // it), so that rounding decides: the repeated normal's culling (objects sorted by height)
+  // must give the list of the full sphere test of a first call, object for object.
+  std::mt19937 rng(8117);
+  const auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  const SliceModel model(*tesseract);
+  const double r = model.radius();
+  REQUIRE(model.centre().norm() == 0.0);  // the centre is the translation
+  const Eigen::VectorXd n = test::random_unit(rng, 4);
+  const double d = 3.7;
+  std::uniform_real_distribution<double> u(-30.0, 30.0);
+  std::uniform_int_distribution<int> ulps(-6, 6);
+  Scene scene;
+  std::size_t near = 0;
+  for (int i = 0; i < 400; ++i) {
+    Eigen::VectorXd p(4);
+    p << u(rng), u(rng), u(rng), u(rng);
+    p -= n.dot(p) * n;  // across the normal
+    double h = u(rng);
+    if (i % 2 == 0) {
+      // Height d +- reach, the reach as SceneSlicer computes it (rigid: the model's radius),
+      // then moved by a few ulps.
+      const double side = i % 4 == 0 ? 1.0 : -1.0;
+      for (int it = 0; it < 4; ++it) {
+        const Eigen::VectorXd c = p + h * n;
+        const double reach = r + tol::bounding_sphere_margin_rel * (r + c.norm());
+        h = d + side * reach;
+      }
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1)
+        h = std::nextafter(h, k > 0 ? 1e300 : -1e300);
+      ++near;
     }
+    SceneObject obj;
+    obj.complex = tesseract;
+    obj.model = "tesseract";
+    obj.transform = AffineTransform::translation(p + h * n);
+    scene.objects.push_back(obj);
+  }
+  SceneSlicer by_height(scene);
+  SceneSlice out;
+  by_height.slice(Hyperplane::from(n, d + 1.0), out, 1);  // the first call with the normal
+  std::size_t in = 0;
+  for (double e : {0.0, 1e-15, -1e-15, 4e-16}) {
+    const Hyperplane plane = Hyperplane::from(n, d + e);
+    by_height.slice(plane, out, 1);
+    SceneSlicer full(scene);
+    SceneSlice first;
+    full.slice(plane, first, 1);
+    REQUIRE(out.objects == first.objects);
+    in += out.size();
+  }
+  CHECK(near == 200);
+  CHECK(in > 40);       // some spheres at the edge are kept,
+  CHECK(in < 4 * 150);  // some are not
+}
+
+TEST_CASE("scenes: an object cut again keeps its buffers and their topology cache",
+          "[slicer][scene][cache]") {
+  // The same plane culled, unculled (every object: the list changes, the positions shift),
+  // culled again, and into outputs whose lists were changed by the caller: the buffers stay
+  // exact, and each object whose buffers were a fast slice with the cache before is answered
+  // by the cache (the sides cannot change for the same plane).
+  std::mt19937 rng(8114);
+  auto tesseract = std::make_shared<const Complex>(load_model("tesseract"));
+  auto cell24 = std::make_shared<const Complex>(load_model("24-cell"));
+  const Scene scene = random_scene(
+      rng, 280, 10.0, [&](int i) { return i % 4 == 0 ? cell24 : tesseract; }, 5);
+  std::vector<std::unique_ptr<SliceModel>> models;
+  for (const SceneObject& obj : scene.objects) {
+    models.push_back(std::make_unique<SliceModel>(*obj.complex));
+    REQUIRE(models.back()->cluster_count() == 1);
+  }
+  Slicer oracle;
+  SliceBuffers one;
+  auto require_exact = [&](const SceneSlice& out, const Hyperplane& plane) {
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      const std::uint32_t i = out.objects[k];
+      oracle.slice(*models[i], plane, scene.objects[i].transform, one);
+      require_identical(out.buffers[k], one);
+    }
+  };
+  SceneSlicer slicer(scene);
+  SliceOptions reuse, all;
+  reuse.reuse_topology = true;
+  all.reuse_topology = true;
+  all.cull = false;
+  const Hyperplane plane = random_plane(rng, 4, 10.0);
+  SceneSlice out;
+  std::size_t answered = 0;
+  // The objects the last call cut on the fast path (with the cache). Only cut ones: an empty
+  // slice with culling touched none of the model's clusters, one without touched them all (one
+  // cluster per model here, so a cut model touches the same one either way).
+  auto cached = [&](const SceneSlice& s) {
+    std::vector<char> c(scene.objects.size(), 0);
+    for (std::size_t k = 0; k < s.size(); ++k)
+      c[s.objects[k]] = !s.buffers[k].general && !s.buffers[k].empty();
+    return c;
+  };
+  for (int round = 0; round < 3; ++round) {
+    for (const SliceOptions& o : {reuse, all, reuse}) {
+      const std::vector<char> before = cached(out);
+      slicer.slice(plane, out, 1, o);
+      require_listed(out, slicer);
+      require_exact(out, plane);
+      for (std::size_t k = 0; k < out.size(); ++k)
+        if (before[out.objects[k]]) {
+          REQUIRE(out.buffers[k].reused_topology);
+          ++answered;
+        }
+    }
+    // A caller's changes to the output: its list reversed, one buffer more or one less; the
+    // result is exact all the same.
+    std::reverse(out.objects.begin(), out.objects.end());
+    if (round == 0) out.buffers.emplace_back();
+    if (round == 1 && !out.buffers.empty()) out.buffers.pop_back();
+    if (round == 2) out.objects.clear();
+    slicer.slice(plane, out, 1, reuse);
+    require_listed(out, slicer);
+    require_exact(out, plane);
+  }
+  CHECK(answered > 300);
 }
 
 TEST_CASE("a model in two pieces: planes between, through and beside them", "[slicer]") {

@@ -414,12 +414,11 @@ void bind_section(py::module_& m) {
             std::vector<Section> out;
             {
               py::gil_scoped_release nogil;
-              std::vector<SliceBuffers> pieces;
+              SceneSlice cut;
               SliceOptions o;
               o.cull = cull;
-              s.slice(plane, pieces, threads, o);
-              out.reserve(pieces.size());
-              for (const SliceBuffers& b : pieces) out.push_back(to_section(b));
+              s.slice(plane, cut, threads, o);
+              out = to_sections(cut, s.size());
             }
             py::list result;
             for (Section& sec : out) result.append(py::cast(std::move(sec)));

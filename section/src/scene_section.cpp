@@ -18,12 +18,9 @@ std::vector<Section> section_objects(const Scene& scene, const Hyperplane& plane
   // Compiled without clusters, so that each piece is exactly section() of its object; objects
   // whose bounding sphere misses the plane are culled (their empty piece is the same).
   SceneSlicer slicer(scene, SliceModelOptions::unclustered());
-  std::vector<SliceBuffers> buffers;
-  slicer.slice(plane, buffers);
-  std::vector<Section> pieces;
-  pieces.reserve(buffers.size());
-  for (const SliceBuffers& b : buffers) pieces.push_back(to_section(b));
-  return pieces;
+  SceneSlice cut;
+  slicer.slice(plane, cut);
+  return to_sections(cut, scene.objects.size());
 }
 
 Section merge_sections(const Scene& scene, const std::vector<Section>& pieces) {

@@ -3,7 +3,7 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
-#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -38,7 +39,8 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
         Eigen::JacobiSVD<Eigen::MatrixXd>(obj.transform.linear()).singularValues()(0);
     const Eigen::VectorXd centre = obj.transform.apply(m.centre());
     const double radius = stretch * m.radius();
-    objects_.push_back({&m, obj.transform});
+    model_of_.push_back(&m);
+    transforms_.push_back(obj.transform);
     centres_.insert(centres_.end(), centre.data(), centre.data() + centre.size());
     // Culled when |n.c - d| > radius + margin (tol::bounding_sphere_margin_rel of the size).
     reach_.push_back(radius + tol::bounding_sphere_margin_rel * (radius + centre.norm()));
@@ -51,28 +53,68 @@ struct SceneSlicer::Placements {
   Eigen::VectorXd normal;
   std::vector<std::uint32_t> slot, used;
   std::vector<Slicer::Placement> pl;
-  std::vector<char> fresh;  // slots made in this slice (their set() is still to run)
-  // Culling for the same normal: the objects by height n.c (key sorted, order their indices),
-  // the largest sum |n_j c_j| and reach, the objects the previous call touched.
+  // Culling for the same normal: the objects by height n.c (key sorted, order their indices,
+  // key_reach their reaches), the largest sum |n_j c_j| and reach; a bit per object (all
+  // clear between calls) that lists the touched ones in increasing order.
   std::size_t calls = 0;
-  std::vector<double> key;
-  std::vector<std::uint32_t> order, previous;
+  std::vector<double> key, key_reach;
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint64_t> bits;
   double scale = 0.0, max_reach = 0.0;
+  // Per touched object (in the order of the output), what the slice reads: read from the
+  // per-object arrays in one pass, so that cutting reads them contiguously.
+  struct Job {
+    const SliceModel* model;
+    const AffineTransform* transform;
+    std::uint32_t slot;  // no_index: no placement (the plain slice)
+    bool fresh;          // the placement is new (its set() is still to run)
+  };
+  std::vector<Job> jobs;
 };
 
-void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads,
+// out.buffers[k] holds what the previous call into out cut for object out.objects[k]: an object
+// touched again takes its own buffers, the others those left over, then the spares; buffers
+// left after that become spares. (Only the storage and the topology cache depend on which
+// buffers an object gets, not the result.)
+void SceneSlicer::arrange(SceneSlice& out) {
+  std::vector<SliceBuffers>& held = out.buffers;
+  const std::size_t n = touched_.size();
+  const std::size_t m = std::min(out.objects.size(), held.size());
+  if (m == n && held.size() == n &&
+      std::equal(touched_.begin(), touched_.end(), out.objects.begin()))
+    return;
+  // Both lists increase: one merge pass pairs them; every held entry is taken or left once.
+  arranged_.resize(n);
+  need_.clear();
+  left_.clear();
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (i < m && out.objects[i] < touched_[k]) left_.push_back(static_cast<std::uint32_t>(i++));
+    if (i < m && out.objects[i] == touched_[k])
+      std::swap(arranged_[k], held[i++]);
+    else
+      need_.push_back(static_cast<std::uint32_t>(k));
+  }
+  for (; i < held.size(); ++i) left_.push_back(static_cast<std::uint32_t>(i));
+  std::size_t next = 0;
+  for (std::uint32_t k : need_) {
+    if (next < left_.size()) {
+      std::swap(arranged_[k], held[left_[next++]]);
+    } else if (!spare_.empty()) {
+      std::swap(arranged_[k], spare_.back());
+      spare_.pop_back();
+    }
+  }
+  for (; next < left_.size(); ++next) spare_.push_back(std::move(held[left_[next]]));
+  held.swap(arranged_);
+}
+
+void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
                         const SliceOptions& options) {
-  if (!objects_.empty() && plane.dim() != dim_)
+  if (!model_of_.empty() && plane.dim() != dim_)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
-  const std::size_t count = objects_.size();
-  // Whether out is the vector the previous call left: only then do its culled marks hold.
-  const bool same = call_ != 0 && out.size() == count && count > 0 && out[0].scene_call_ == call_;
-  out.resize(count);
-  if (!same) marked_.assign(count, 0);
-  static std::atomic<std::uint64_t> calls{0};
-  call_ = ++calls;
-  if (count > 0) out[0].scene_call_ = call_;
+  const std::size_t count = model_of_.size();
   if (!placements_) placements_ = std::make_shared<Placements>();
   Placements& cache = *placements_;
   if (cache.slot.size() != count) cache.slot.assign(count, no_index), cache.used.clear();
@@ -96,23 +138,12 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
     for (int j = 0; j < dim; ++j) dist += nrm[j] * c[j];
     return std::abs(dist) > reach[i];
   };
-  auto mark_empty = [&](std::size_t i) {  // a culled object's buffers, once
-    marked_[i] = 1;
-    SliceBuffers& b = out[i];
-    clear_to_empty(b, dim_ - 1);
-    b.plane = plane;
-    b.general = !objects_[i].model->fast();  // as the general path's empty result
-    b.fallback = b.general ? FallbackReason::Model : FallbackReason::None;
-    b.reused_topology = false;
-    b.culled = true;
-  };
   ++cache.calls;
-  if (options.cull && same && cache.calls >= 2 && count >= 256) {
-    // The same normal again (a sweep or an animation of the offset) into the same vector: the
-    // objects by height n.c (sorted once per normal), so only those whose height lies within
-    // the largest reach (plus far more than the rounding of either sum) of the offset are
-    // tested, and only those touched by the previous call emptied; every other object was
-    // culled and marked before and costs nothing.
+  if (options.cull && cache.calls >= 2 && count >= 256) {
+    // The same normal again (a sweep or an animation of the offset): the objects by height n.c
+    // (sorted once per normal), so only those whose height lies within the largest reach (plus
+    // far more than the rounding of either sum) of the offset are tested; every other object
+    // costs nothing.
     if (cache.order.empty()) {
       cache.key.resize(count);
       cache.order.resize(count);
@@ -131,67 +162,101 @@ void SceneSlicer::slice(const Hyperplane& plane, std::vector<SliceBuffers>& out,
         return cache.key[a] < cache.key[b] || (cache.key[a] == cache.key[b] && a < b);
       });
       std::vector<double> sorted(count);
-      for (std::size_t k = 0; k < count; ++k) sorted[k] = cache.key[cache.order[k]];
+      cache.key_reach.resize(count);
+      for (std::size_t k = 0; k < count; ++k) {
+        sorted[k] = cache.key[cache.order[k]];
+        cache.key_reach[k] = reach[cache.order[k]];
+      }
       cache.key.swap(sorted);
     }
     const double margin = cache.max_reach + 1e-12 * (std::abs(plane.offset) + cache.scale);
     const auto lo = std::lower_bound(cache.key.begin(), cache.key.end(), plane.offset - margin);
     const auto hi = std::upper_bound(lo, cache.key.end(), plane.offset + margin);
+    // |height - d| against the reach decides alike with the culling test's own sum unless
+    // they differ by less than far more than the rounding of either: only those objects are
+    // tested (their centres read).
+    const double band = 1e-12 * (std::abs(plane.offset) + cache.scale + cache.max_reach);
+    // The touched ones as bits, listed in increasing order from the words between the first
+    // and the last (and cleared on the way).
+    cache.bits.resize((count + 63) / 64);
+    std::uint64_t* bits = cache.bits.data();
+    std::size_t first = count, last = 0;
     for (auto k = lo; k != hi; ++k) {
-      const std::uint32_t i = cache.order[static_cast<std::size_t>(k - cache.key.begin())];
-      if (!culled(i)) touched_.push_back(i);
+      const std::size_t at = static_cast<std::size_t>(k - cache.key.begin());
+      const double gap = std::abs(*k - plane.offset) - cache.key_reach[at];
+      if (gap > band) continue;
+      const std::uint32_t i = cache.order[at];
+      if (gap >= -band && culled(i)) continue;
+      bits[i / 64] |= std::uint64_t{1} << (i % 64);
+      first = std::min<std::size_t>(first, i);
+      last = std::max<std::size_t>(last, i);
     }
-    std::sort(touched_.begin(), touched_.end());
-    for (std::uint32_t i : touched_) marked_[i] = 2;
-    for (std::uint32_t i : cache.previous)
-      if (marked_[i] != 2) mark_empty(i);
-    for (std::uint32_t i : touched_) marked_[i] = 0;
+    for (std::size_t w = first / 64; first <= last && w <= last / 64; ++w)
+      for (std::uint64_t b = std::exchange(bits[w], 0); b != 0; b &= b - 1)
+        touched_.push_back(static_cast<std::uint32_t>(w * 64 + std::countr_zero(b)));
   } else {
-    // Every object's sphere: a culled object's buffers are written only when not yet marked.
-    for (std::size_t i = 0; i < count; ++i) {
-      if (!options.cull || !culled(i)) {
-        touched_.push_back(static_cast<std::uint32_t>(i));
-        marked_[i] = 0;
-      } else if (!marked_[i]) {
-        mark_empty(i);
-      }
-    }
+    for (std::size_t i = 0; i < count; ++i)
+      if (!options.cull || !culled(i)) touched_.push_back(static_cast<std::uint32_t>(i));
   }
-  cache.previous = touched_;
-  // Placements: slots for the touched objects that have none for this normal.
-  cache.fresh.assign(cache.pl.size(), 0);
-  for (std::uint32_t i : touched_)
-    if (cache.slot[i] == no_index && objects_[i].model->fast()) {
-      cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
+  arrange(out);
+  out.objects.assign(touched_.begin(), touched_.end());
+  out.plane = plane;
+  // The jobs, with slots for the touched objects that have none for this normal.
+  cache.jobs.resize(touched_.size());
+  for (std::size_t j = 0; j < touched_.size(); ++j) {
+    const std::uint32_t i = touched_[j];
+    Placements::Job& job = cache.jobs[j];
+    job.model = model_of_[i];
+    job.transform = &transforms_[i];
+    job.slot = cache.slot[i];
+    job.fresh = false;
+    if (job.slot == no_index && job.model->fast() && job.model->dim() == plane.dim()) {
+      job.slot = cache.slot[i] = static_cast<std::uint32_t>(cache.pl.size());
+      job.fresh = true;
       cache.used.push_back(i);
       cache.pl.emplace_back();
-      cache.fresh.push_back(1);
     }
+  }
   threads = resolve_threads(threads);
   threads = static_cast<unsigned>(
       std::max<std::size_t>(1, std::min<std::size_t>(threads, touched_.size())));
   if (slicers_.size() < threads) slicers_.resize(threads);
   auto run = [&](unsigned t, std::size_t b, std::size_t e) {
     for (std::size_t j = b; j < e; ++j) {
-      const std::uint32_t i = touched_[j];
-      const Object& obj = objects_[i];
-      SliceBuffers& o = out[i];
-      o.culled = false;
-      const std::uint32_t slot = cache.slot[i];
-      if (slot == no_index || plane.dim() != obj.model->dim()) {
-        slicers_[t].slice(*obj.model, plane, obj.transform, o, options);
+      const Placements::Job& job = cache.jobs[j];
+      SliceBuffers& o = out.buffers[j];
+      if (job.slot == no_index) {
+        slicers_[t].slice(*job.model, plane, *job.transform, o, options);
         continue;
       }
-      Slicer::Placement& pl = cache.pl[slot];
-      if (cache.fresh[slot]) pl.set(*obj.model, plane, &obj.transform);
-      slicers_[t].slice_with(*obj.model, pl, plane, &obj.transform, o, options);
+      Slicer::Placement& pl = cache.pl[job.slot];
+      if (job.fresh) pl.set(*job.model, plane, job.transform);
+      slicers_[t].slice_with(*job.model, pl, plane, job.transform, o, options);
     }
   };
-  // Blocks of consecutive touched objects; each thread writes only its own entries of out
-  // (and its objects' placements).
+  // Blocks of consecutive touched objects; each thread writes only its own entries of
+  // out.buffers (and its objects' placements).
   const std::size_t n = touched_.size();
   const std::size_t per = (n + threads - 1) / threads;
   fork_join(threads, [&](unsigned t) { run(t, std::min(n, t * per), std::min(n, (t + 1) * per)); });
+}
+
+std::vector<Section> to_sections(const SceneSlice& slice, std::size_t count) {
+  if (count == 0) return {};
+  SliceBuffers none;
+  clear_to_empty(none, static_cast<int>(slice.plane.dim()) - 1);
+  none.plane = slice.plane;
+  const Section empty = to_section(none);
+  std::vector<Section> pieces;
+  pieces.reserve(count);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (k < slice.objects.size() && slice.objects[k] == i)
+      pieces.push_back(to_section(slice.buffers[k++]));
+    else
+      pieces.push_back(empty);
+  }
+  return pieces;
 }
 
 }  // namespace cw4d

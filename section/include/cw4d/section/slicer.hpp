@@ -152,10 +152,6 @@ struct SliceBuffers {
   bool general = false;  ///< true when the general path made these buffers
   FallbackReason fallback = FallbackReason::None;  ///< why, when general
   bool reused_topology = false;  ///< true when the topology cache answered the last slice
-  /// Set by SceneSlicer::slice when it culled this object: the buffers are empty and were
-  /// written by the slice that culled it first (their plane is that one's); cleared when it
-  /// cuts the object again.
-  bool culled = false;
 
   std::size_t count(int rank) const {
     if (rank < 0) return 0;
@@ -174,8 +170,6 @@ struct SliceBuffers {
 
  private:
   friend class Slicer;
-  friend class SceneSlicer;
-  std::uint64_t scene_call_ = 0;  // in out[0]: the SceneSlicer::slice call that wrote the vector
   std::vector<Incidence> spare_tables_;
   std::vector<std::vector<std::uint32_t>> spare_sources_;
   // Topology cache: what the last fast slice decided.
@@ -408,6 +402,23 @@ class Slicer {
   forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
 
+/// What SceneSlicer::slice gives: the sections of the objects it did not cull, in increasing
+/// object order. Culled objects (their bounding sphere misses the plane) have no entry: their
+/// section is empty. Reuse one SceneSlice from call to call: its buffers' storage is kept, and
+/// an object cut by consecutive calls keeps its buffers (and their topology cache).
+struct SceneSlice {
+  Hyperplane plane;                    ///< the world-space plane of the last slice
+  std::vector<std::uint32_t> objects;  ///< the objects cut, increasing scene indices
+  std::vector<SliceBuffers> buffers;   ///< buffers[k]: the section of object objects[k]
+  std::size_t size() const { return objects.size(); }
+};
+#define CW4D_SCENE_SLICE 1
+
+/// One Section per object of a scene of `count` objects: to_section of its buffers for the
+/// objects in slice.objects (each below count), the empty section in the frame of slice.plane
+/// for the others.
+std::vector<Section> to_sections(const SceneSlice& slice, std::size_t count);
+
 /// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every
 /// object's placement and its world-space bounding sphere. A snapshot: objects moved later are
 /// not seen (build a new SceneSlicer, or slice their models with a Slicer). Keeps references to
@@ -415,39 +426,40 @@ class Slicer {
 class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
-  std::size_t size() const { return objects_.size(); }
-  /// out[i] is the section of object i: for the objects of touched_objects() exactly what
-  /// Slicer::slice gives (identical for every thread count and with or without culling); a
-  /// culled object's buffers are empty with SliceBuffers::culled set. A culled object costs only
-  /// its sphere test: when `out` is the vector the previous call wrote (recognised by a mark in
-  /// out[0]; any other vector, or a copy of an older state, is written whole), the buffers of
-  /// objects culled then and now are not rewritten (their plane stays that of the slice that
-  /// culled the object first), so leave them as slice() left them between calls.
-  /// threads = 0 uses std::thread::hardware_concurrency().
+  std::size_t size() const { return model_of_.size(); }
+  /// Cuts the objects whose bounding sphere meets the plane (every object when options.cull is
+  /// false) into `out`: out.objects lists them, out.buffers[k] is exactly what Slicer::slice
+  /// gives for object out.objects[k] (identical for every thread count and with or without
+  /// culling; the objects left out have empty sections). A culled object costs only its sphere
+  /// test, and with the same normal as the previous call not even that when its height is far
+  /// from the offset (the objects are sorted by height once per normal). An object in
+  /// out.objects before the call and after it keeps its buffers (moved to its new position), so
+  /// SliceOptions::reuse_topology carries across calls; buffers no longer needed are kept by
+  /// the SceneSlicer for later objects. threads = 0 uses std::thread::hardware_concurrency().
   /// Each touched object's placement of the plane in model space is kept while the normal
   /// stays the same (the transforms are fixed), so a sweep or animation of offsets redoes only
   /// the offset's part.
   /// \throw InputError when the plane's dimension differs from the scene's.
-  void slice(const Hyperplane& plane, std::vector<SliceBuffers>& out, unsigned threads = 1,
+  void slice(const Hyperplane& plane, SceneSlice& out, unsigned threads = 1,
              const SliceOptions& options = {});
   /// Objects the last slice() did not cull.
   std::size_t touched() const { return touched_.size(); }
-  /// Their indices, increasing: the entries of out the last slice() cut.
+  /// Their indices, increasing (the last slice's SceneSlice::objects).
   std::span<const std::uint32_t> touched_objects() const { return touched_; }
 
  private:
-  struct Object {
-    const SliceModel* model;
-    AffineTransform transform;  // copied: the scene may move its objects afterwards
-  };
   std::vector<std::unique_ptr<SliceModel>> models_;
-  std::vector<Object> objects_;
-  std::vector<double> centres_;  // world-space bounding-sphere centres, dim_ per object
-  std::vector<double> reach_;    // their radii plus the culling margin
+  std::vector<const SliceModel*> model_of_;  // per object
+  std::vector<AffineTransform> transforms_;  // copied: the scene may move its objects afterwards
+  std::vector<double> centres_;              // world-space bounding-sphere centres, dim_ per object
+  std::vector<double> reach_;                // their radii plus the culling margin
   std::vector<Slicer> slicers_;
   std::vector<std::uint32_t> touched_;
-  std::vector<char> marked_;  // out[i] holds the empty culled buffers (for the vector last written)
-  std::uint64_t call_ = 0;    // the mark of the last call (unique across SceneSlicers)
+  // Buffers between calls: those no object of the output needs (their storage kept), and the
+  // vector the output's buffers are rearranged into.
+  std::vector<SliceBuffers> spare_, arranged_;
+  std::vector<std::uint32_t> need_, left_;  // arrange()'s: new entries, held entries free
+  void arrange(SceneSlice& out);
   struct Placements;  // the touched objects' placements for the last normal (scene_slicer.cpp)
   std::shared_ptr<Placements> placements_;
   int dim_ = 0;
