@@ -197,6 +197,9 @@ struct Scratch {
   std::vector<std::uint32_t> slot_vid;    // the vertex an owning slot gives its edge
   std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
   std::vector<std::uint32_t> cut_cells;   // each cut cell once
+  std::vector<std::uint32_t> tri_at;      // the first triangle of each cut tetrahedron
+  std::vector<std::uint32_t> list3;       // the cut tetrahedra giving one triangle
+  std::vector<std::uint32_t> list4;       // those giving a quad
   std::vector<double> cell_n3;
   // An edge index for meshes whose tets were changed after tetrahedralize.
   TetMesh edge_mesh;
@@ -320,13 +323,11 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   } else {
     test_tets(0, T);
   }
-  // One triangle of slack: a tetrahedron writes both triangles of a quad, a triangle's second
-  // is overwritten by the next tetrahedron (no branch on the case); trimmed at the end.
-  out.triangles.resize(3 * tris + 3);
-  out.normals.resize(3 * tris + 3);
-  out.uvw.resize(9 * tris + 9);
-  out.tet.resize(tris + 1);
-  out.cell.resize(tris + 1);
+  out.triangles.resize(3 * tris);
+  out.normals.resize(3 * tris);
+  out.uvw.resize(9 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
   if (tris == 0) {
     out.clear();
     return true;
@@ -353,13 +354,28 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   std::uint32_t* __restrict corner_vid = sc.corner_vid.data();
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
+  sc.tri_at.resize(ncut);
+  sc.list3.resize(ncut);
+  sc.list4.resize(ncut);
+  std::uint32_t* __restrict tri_at = sc.tri_at.data();
+  std::uint32_t* __restrict list3 = sc.list3.data();
+  std::uint32_t* __restrict list4 = sc.list4.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
   bool stale = false;  // an edge id out of range (no branch)
+  std::size_t n3 = 0, n4 = 0;
+  std::uint32_t first = 0;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
     const IndexedCase& ic = table[cut[i] & 15u];
     const auto& te = tet_edges[t];
     cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
+    // The cut tetrahedron's first triangle, and its place in the list of its case.
+    tri_at[i] = first;
+    first += ic.tris;
+    list3[n3] = static_cast<std::uint32_t>(i);
+    list4[n4] = static_cast<std::uint32_t>(i);
+    n3 += ic.tris == 1;
+    n4 += ic.tris == 2;
     for (std::size_t k = 0; k < 4; ++k) {
       const std::uint32_t e0 = te[ic.local[k]];
       const std::uint32_t e = e0 < ne ? e0 : 0u;
@@ -425,7 +441,9 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       for (int r = 0; r < 3; ++r) n3[3 * c + static_cast<std::size_t>(r)] = y[r] * inv;
     }
   }
-  // The triangles.
+  // The triangles, written at their final places: the cut tetrahedra giving one triangle and
+  // those giving a quad in two loops of fixed trip counts (no branch on the case, nothing
+  // written twice).
   const double* cell_n3 = sc.cell_n3.data();
   const double* UVW = mesh.corner_uvw.data();
   std::uint32_t* __restrict out_tri = out.triangles.data();
@@ -433,48 +451,53 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   double* __restrict out_uvw = out.uvw.data();
   std::uint32_t* __restrict out_tet = out.tet.data();
   std::uint32_t* __restrict out_cell = out.cell.data();
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < ncut; ++i) {
-    const std::uint32_t t = cut[i] >> 4;
-    const IndexedCase& ic = table[cut[i] & 15u];
-    const auto& tv = tets[t];
-    const std::uint32_t cell = tet_cell[t];
-    const double* n3 = cell_n3 + 3 * std::size_t{cell};
-    const std::uint32_t* vid = corner_vid + 4 * i;
-    double uvw[4][3];
-    for (int k = 0; k < 4; ++k) {
-      // u runs from the lower vertex id of the edge.
-      const int ka = ic.ka[k], kb = ic.kb[k];
-      const bool a_low = tv[static_cast<std::size_t>(ka)] < tv[static_cast<std::size_t>(kb)];
-      const int lo = a_low ? ka : kb, hi = a_low ? kb : ka;
-      const double u = U[vid[k]];
-      const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(lo));
-      const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(hi));
-      for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
-    }
-    // The fan (0, 1, 2), (0, 2, 3) of the outward cycle; a triangle's second is overwritten by
-    // the next tetrahedron (or trimmed): no branch on the case.
-    auto emit = [&](std::size_t at, int i0, int i1, int i2) {
-      const int c[3] = {i0, i1, i2};
-      for (int k = 0; k < 3; ++k) {
-        out_tri[3 * at + static_cast<std::size_t>(k)] = vid[c[k]];
-        for (int r = 0; r < 3; ++r)
-          out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
+  auto write_cases = [&](auto count_tag, const std::uint32_t* list, std::size_t n) {
+    constexpr int count = decltype(count_tag)::value;
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t i = list[j];
+      const std::uint32_t t = cut[i] >> 4;
+      const IndexedCase& ic = table[cut[i] & 15u];
+      const auto& tv = tets[t];
+      const std::uint32_t cell = tet_cell[t];
+      const double* n3 = cell_n3 + 3 * std::size_t{cell};
+      const std::uint32_t* vid = corner_vid + 4 * i;
+      const double* tu = UVW + 12 * std::size_t{t};
+      double uvw[count][3];
+      for (int k = 0; k < count; ++k) {
+        // u runs from the lower vertex id of the edge.
+        // (as index arithmetic: which end is lower is not predictable)
+        const unsigned ka = ic.ka[k], kb = ic.kb[k];
+        const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
+        const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
+        const double u = U[vid[k]];
+        const double* ua = tu + 3 * lo;
+        const double* ub = tu + 3 * hi;
+        for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
       }
-      for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
-      out_tet[at] = t;
-      out_cell[at] = cell;
-    };
-    emit(w + ic.swap, 0, 1, 2);
-    emit(w + 1 - ic.swap, 0, 2, 3);
-    w += ic.tris;
-  }
-  assert(w == tris);
-  out.triangles.resize(3 * tris);
-  out.normals.resize(3 * tris);
-  out.uvw.resize(9 * tris);
-  out.tet.resize(tris);
-  out.cell.resize(tris);
+      auto emit = [&](std::size_t at, int i0, int i1, int i2) {
+        const int c[3] = {i0, i1, i2};
+        for (int k = 0; k < 3; ++k) {
+          out_tri[3 * at + static_cast<std::size_t>(k)] = vid[c[k]];
+          for (int r = 0; r < 3; ++r)
+            out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
+        }
+        for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
+        out_tet[at] = t;
+        out_cell[at] = cell;
+      };
+      const std::size_t w = tri_at[i];
+      if constexpr (count == 3) {
+        emit(w, 0, 1, 2);
+      } else {
+        // The fan (0, 1, 2), (0, 2, 3) of the outward cycle, the second first when turned.
+        emit(w + ic.swap, 0, 1, 2);
+        emit(w + 1 - ic.swap, 0, 2, 3);
+      }
+    }
+  };
+  write_cases(std::integral_constant<int, 3>{}, list3, n3);
+  write_cases(std::integral_constant<int, 4>{}, list4, n4);
+  assert(first == tris);
   return true;
 }
 
