@@ -245,17 +245,23 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
-  bool any_neg = false, any_pos = false, any_on = false;
+  // classify_side's decisions as arithmetic (the sides of a generic plane are not predictable).
+  unsigned any_neg = 0, any_pos = 0, any_on = 0;
   sc.up.resize(nv);
+  const double* sv = sc.s.data();
+  Side* __restrict sd = sc.side.data();
+  std::uint8_t* __restrict up = sc.up.data();
   for (std::size_t v = 0; v < nv; ++v) {
-    const Side sd = classify_side(sc.s[v], tolerance);
-    sc.side[v] = sd;
-    sc.up[v] = sd > Side::On;
-    any_neg |= sd == Side::Negative;
-    any_pos |= sd == Side::Positive;
-    any_on |= sd == Side::On;
+    const unsigned pos = sv[v] > tolerance, neg = sv[v] < -tolerance;
+    assert(static_cast<int>(classify_side(sv[v], tolerance)) ==
+           static_cast<int>(pos) - static_cast<int>(neg));
+    sd[v] = static_cast<Side>(static_cast<int>(pos) - static_cast<int>(neg));
+    up[v] = static_cast<std::uint8_t>(pos);
+    any_neg |= neg;
+    any_pos |= pos;
+    any_on |= (pos | neg) ^ 1u;
   }
-  pr.any_neg = any_neg, pr.any_pos = any_pos, pr.any_on = any_on;
+  pr.any_neg = any_neg != 0, pr.any_pos = any_pos != 0, pr.any_on = any_on != 0;
   // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
   pr.normal_map = pr.lin.inverse().transpose();
   pr.flip = pr.lin.determinant() < 0.0;
