@@ -194,7 +194,6 @@ struct Scratch {
   std::vector<double> u;                  // the parameter of each output vertex
   std::vector<std::uint32_t> edge_owner;  // the last corner slot naming the edge
   std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
-  std::vector<std::uint32_t> slot_vid;    // the vertex an owning slot gives its edge
   std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
   std::vector<std::uint32_t> cut_cells;   // each cut cell once
   std::vector<std::uint32_t> tri_at;      // the first triangle of each cut tetrahedron
@@ -208,6 +207,12 @@ struct Scratch {
   std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
   std::vector<TetCutPoint> cut_buf;
 };
+
+// Scratch arrays only grow (their contents are written before they are read).
+template <class T>
+void grow(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(n);
+}
 
 Scratch& scratch() {
   thread_local Scratch sc;
@@ -293,10 +298,10 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const std::array<std::uint32_t, 6>* tet_edges = index.tet_edges.data();
   const IndexedCase* table = kIndexedTable[pr.flip ? 1 : 0].data();
   const std::size_t T = mesh.size();
-  sc.cut.resize(T);
+  grow(sc.cut, T);
   const std::uint8_t* up = sc.up.data();
   std::uint32_t* __restrict cut = sc.cut.data();
-  std::size_t ncut = 0, tris = 0;
+  std::size_t ncut = 0;
   const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
   auto test_tets = [&](std::size_t t0, std::size_t t1) {
     for (std::size_t t = t0; t < t1; ++t) {
@@ -304,7 +309,6 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
       cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
       ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
-      tris += table[mask].tris;
     }
   };
   const std::size_t nblocks = index.block_first.size() - 1;
@@ -329,12 +333,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   } else {
     test_tets(0, T);
   }
-  out.triangles.resize(3 * tris);
-  out.normals.resize(3 * tris);
-  out.uvw.resize(9 * tris);
-  out.tet.resize(tris);
-  out.cell.resize(tris);
-  if (tris == 0) {
+  if (ncut == 0) {
     out.clear();
     return true;
   }
@@ -344,44 +343,49 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // store forwarding): every corner slot j = 4 i + k claims its edge (owner[e] = j, the last
   // claim stays), the owning slots number the vertices in slot order, and every slot reads its
   // owner's number. The same for the cut cells (their normals are computed together below).
-  if (sc.edge_owner.size() < ne) sc.edge_owner.resize(ne);
-  if (sc.cell_owner.size() < mesh.cell_count()) sc.cell_owner.resize(mesh.cell_count());
-  if (sc.cell_n3.size() < 3 * mesh.cell_count()) sc.cell_n3.resize(3 * mesh.cell_count());
+  // (Scratch only grows: no value-initialisation per slice.)
+  grow(sc.edge_owner, ne);
+  grow(sc.cell_owner, mesh.cell_count());
+  grow(sc.cell_n3, 3 * mesh.cell_count());
   const std::size_t nslot = 4 * ncut;
-  sc.slot_edge.resize(nslot);
-  sc.slot_vid.resize(nslot);
-  sc.corner_vid.resize(nslot);
-  sc.crossing.resize(nslot);
-  sc.cut_cells.resize(ncut);
+  grow(sc.slot_edge, nslot);
+  grow(sc.corner_vid, nslot);
+  grow(sc.crossing, nslot);
+  grow(sc.cut_cells, ncut);
+  grow(sc.tri_at, ncut);
+  grow(sc.list3, ncut);
+  grow(sc.list4, ncut);
   std::uint32_t* __restrict owner = sc.edge_owner.data();
   std::uint32_t* __restrict cell_owner = sc.cell_owner.data();
   std::uint32_t* __restrict slot_edge = sc.slot_edge.data();
-  std::uint32_t* __restrict slot_vid = sc.slot_vid.data();
   std::uint32_t* __restrict corner_vid = sc.corner_vid.data();
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
-  sc.tri_at.resize(ncut);
-  sc.list3.resize(ncut);
-  sc.list4.resize(ncut);
   std::uint32_t* __restrict tri_at = sc.tri_at.data();
   std::uint32_t* __restrict list3 = sc.list3.data();
   std::uint32_t* __restrict list4 = sc.list4.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  bool stale = false;  // an edge id out of range (no branch)
+  // Per cut tetrahedron: its cell's claim, its first triangle and its place in the list of its
+  // case (one triangle or a quad).
   std::size_t n3 = 0, n4 = 0;
   std::uint32_t first = 0;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
-    const IndexedCase& ic = table[cut[i] & 15u];
-    const auto& te = tet_edges[t];
+    const unsigned tris = table[cut[i] & 15u].tris;
     cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
-    // The cut tetrahedron's first triangle, and its place in the list of its case.
     tri_at[i] = first;
-    first += ic.tris;
+    first += tris;
     list3[n3] = static_cast<std::uint32_t>(i);
     list4[n4] = static_cast<std::uint32_t>(i);
-    n3 += ic.tris == 1;
-    n4 += ic.tris == 2;
+    n3 += tris == 1;
+    n4 += tris == 2;
+  }
+  const std::size_t tris = first;
+  // The claims of the corner slots.
+  bool stale = false;  // an edge id out of range (no branch)
+  for (std::size_t i = 0; i < ncut; ++i) {
+    const IndexedCase& ic = table[cut[i] & 15u];
+    const auto& te = tet_edges[cut[i] >> 4];
     for (std::size_t k = 0; k < 4; ++k) {
       const std::uint32_t e0 = te[ic.local[k]];
       const std::uint32_t e = e0 < ne ? e0 : 0u;
@@ -391,16 +395,25 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     }
   }
   if (stale) return false;
+  out.triangles.resize(3 * tris);
+  out.normals.resize(3 * tris);
+  out.uvw.resize(9 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
+  // Numbering and look-up in one pass, backwards: the owning (last) slot of an edge comes first
+  // and numbers it from the end (vertex nvert - 1 - r for the r-th owner met, so vertices are in
+  // the owners' slot order); every other slot copies its owner's number. No branch.
   std::uint32_t nvert = 0;
   std::size_t ncells = 0;
-  for (std::size_t j = 0; j < nslot; ++j) {
+  for (std::size_t j = nslot; j-- > 0;) {
     const std::uint32_t e = slot_edge[j];
-    const bool own = owner[e] == j;
-    slot_vid[j] = nvert;
+    const std::uint32_t o = owner[e];
+    const std::uint32_t own = 0u - static_cast<std::uint32_t>(o == j);
+    const std::uint32_t r = (corner_vid[o] & ~own) | (nvert & own);
+    corner_vid[j] = r;
     crossing[nvert] = e;
-    nvert += own;
+    nvert -= own;  // + 1 where owned
   }
-  for (std::size_t j = 0; j < nslot; ++j) corner_vid[j] = slot_vid[owner[slot_edge[j]]];
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t c = tet_cell[cut[i] >> 4];
     cut_cells[ncells] = c;
@@ -417,7 +430,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   TetCutPoint* __restrict out_src = out.vertex_source.data();
   const Eigen::Matrix<double, 3, 4>& W = pr.W;
   for (std::uint32_t v = 0; v < nvert; ++v) {
-    const auto& ab = edges[crossing[v]];
+    const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
     const double u = s[a] / (s[a] - s[b]);
     const double* xa = P + 4 * std::size_t{a};
@@ -457,6 +470,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   double* __restrict out_uvw = out.uvw.data();
   std::uint32_t* __restrict out_tet = out.tet.data();
   std::uint32_t* __restrict out_cell = out.cell.data();
+  const std::uint32_t top = nvert - 1;  // vertex top - r is the r-th numbered from the end
   auto write_cases = [&](auto count_tag, const std::uint32_t* list, std::size_t n) {
     constexpr int count = decltype(count_tag)::value;
     for (std::size_t j = 0; j < n; ++j) {
@@ -475,7 +489,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
         const unsigned ka = ic.ka[k], kb = ic.kb[k];
         const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
         const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
-        const double u = U[vid[k]];
+        const double u = U[top - vid[k]];
         const double* ua = tu + 3 * lo;
         const double* ub = tu + 3 * hi;
         for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
@@ -483,7 +497,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       auto emit = [&](std::size_t at, int i0, int i1, int i2) {
         const int c[3] = {i0, i1, i2};
         for (int k = 0; k < 3; ++k) {
-          out_tri[3 * at + static_cast<std::size_t>(k)] = vid[c[k]];
+          out_tri[3 * at + static_cast<std::size_t>(k)] = top - vid[c[k]];
           for (int r = 0; r < 3; ++r)
             out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
         }
@@ -503,7 +517,6 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   };
   write_cases(std::integral_constant<int, 3>{}, list3, n3);
   write_cases(std::integral_constant<int, 4>{}, list4, n4);
-  assert(first == tris);
   return true;
 }
 
