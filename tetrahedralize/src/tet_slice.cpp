@@ -9,6 +9,10 @@
 #include <map>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/tolerances.hpp"
@@ -200,6 +204,7 @@ struct Scratch {
   std::vector<std::uint32_t> list3;       // the cut tetrahedra giving one triangle
   std::vector<std::uint32_t> list4;       // those giving a quad
   std::vector<double> cell_n3;
+  std::vector<double> cell_y;  // the projected normals before scaling, with their squared norms
   // An edge index for meshes whose tets were changed after tetrahedralize.
   TetMesh edge_mesh;
   // The general loop's soup, welded for the indexed form.
@@ -422,13 +427,48 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // The crossings, each once.
   out.positions.resize(3 * std::size_t{nvert});
   out.vertex_source.resize(nvert);
-  sc.u.resize(nvert);
+  grow(sc.u, nvert);
   const double* P = mesh.positions.data();
   const double* s = sc.s.data();
   double* __restrict U = sc.u.data();
   double* __restrict out_pos = out.positions.data();
   TetCutPoint* __restrict out_src = out.vertex_source.data();
   const Eigen::Matrix<double, 3, 4>& W = pr.W;
+#if defined(__SSE2__)
+  // Rows 0 and 1 of the projection as lane pairs, row 2 alone: per lane the same operations in
+  // the same order as the scalar loop below.
+  __m128d w01[4];
+  double w2[4];
+  for (int c = 0; c < 4; ++c) {
+    w01[c] = _mm_set_pd(W(1, c), W(0, c));
+    w2[c] = W(2, c);
+  }
+  const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
+  const double off2 = pr.offset[2];
+  for (std::uint32_t v = 0; v < nvert; ++v) {
+    const auto& ab = edges[crossing[nvert - 1 - v]];
+    const std::uint32_t a = ab[0], b = ab[1];
+    const double u = s[a] / (s[a] - s[b]);
+    const double* xa = P + 4 * std::size_t{a};
+    const double* xb = P + 4 * std::size_t{b};
+    const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
+    const __m128d x01 = _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
+    const __m128d x23 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
+    const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
+    const __m128d x2 = _mm_unpacklo_pd(x23, x23), x3 = _mm_unpackhi_pd(x23, x23);
+    __m128d y = _mm_add_pd(_mm_mul_pd(w01[0], x0), _mm_mul_pd(w01[1], x1));
+    y = _mm_add_pd(y, _mm_mul_pd(w01[2], x2));
+    y = _mm_add_pd(y, _mm_mul_pd(w01[3], x3));
+    y = _mm_add_pd(y, off01);
+    const double y2 = w2[0] * _mm_cvtsd_f64(x0) + w2[1] * _mm_cvtsd_f64(x1) +
+                      w2[2] * _mm_cvtsd_f64(x2) + w2[3] * _mm_cvtsd_f64(x3) + off2;
+    _mm_storeu_pd(out_pos + 3 * std::size_t{v}, y);
+    out_pos[3 * std::size_t{v} + 2] = y2;
+    out_src[v] = {a, b, u};
+    U[v] = u;
+  }
+#else
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
@@ -443,21 +483,41 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     out_src[v] = {a, b, u};
     U[v] = u;
   }
-  // The projected unit normals of the cut cells: independent square roots and divisions, no
-  // branch.
+#endif
+  // The projected unit normals of the cut cells: independent square roots and divisions (two
+  // at a time where SSE2 has them: the same correctly rounded results), no branch.
   {
     const double* CN = mesh.cell_normals.data();
     double* __restrict n3 = sc.cell_n3.data();
+    grow(sc.cell_y, 4 * ncells + 4);
+    double* __restrict yz = sc.cell_y.data();  // y0, y1, y2, |y|^2 of each cut cell
     const Eigen::Matrix<double, 3, 4>& NB = pr.NB;
     for (std::size_t j = 0; j < ncells; ++j) {
-      const std::size_t c = cut_cells[j];
-      const double* n = CN + 4 * c;
+      const double* n = CN + 4 * std::size_t{cut_cells[j]};
       double y[3];
       for (int r = 0; r < 3; ++r)
         y[r] = NB(r, 0) * n[0] + NB(r, 1) * n[1] + NB(r, 2) * n[2] + NB(r, 3) * n[3];
-      const double z = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      const double inv = z > 0.0 ? 1.0 / std::sqrt(z) : 0.0;
-      for (int r = 0; r < 3; ++r) n3[3 * c + static_cast<std::size_t>(r)] = y[r] * inv;
+      yz[4 * j] = y[0], yz[4 * j + 1] = y[1], yz[4 * j + 2] = y[2];
+      yz[4 * j + 3] = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    }
+    auto write = [&](std::size_t j, double inv) {
+      const std::size_t c = cut_cells[j];
+      for (std::size_t r = 0; r < 3; ++r) n3[3 * c + r] = yz[4 * j + r] * inv;
+    };
+    std::size_t j = 0;
+#if defined(__SSE2__)
+    const __m128d one = _mm_set1_pd(1.0), zero = _mm_setzero_pd();
+    for (; j + 2 <= ncells; j += 2) {
+      const __m128d z = _mm_set_pd(yz[4 * j + 7], yz[4 * j + 3]);
+      const __m128d inv =
+          _mm_and_pd(_mm_div_pd(one, _mm_sqrt_pd(z)), _mm_cmpgt_pd(z, zero));  // 0 where z <= 0
+      write(j, _mm_cvtsd_f64(inv));
+      write(j + 1, _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv)));
+    }
+#endif
+    for (; j < ncells; ++j) {
+      const double z = yz[4 * j + 3];
+      write(j, z > 0.0 ? 1.0 / std::sqrt(z) : 0.0);
     }
   }
   // The triangles, written at their final places: the cut tetrahedra giving one triangle and
