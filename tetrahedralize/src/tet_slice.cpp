@@ -188,6 +188,14 @@ struct Prepared {
   Eigen::Vector3d offset;
 };
 
+// A cut tetrahedron as the triangle pass reads it.
+struct CutRecord {
+  std::uint32_t cut;    // (t << 4) | mask
+  std::uint32_t first;  // its first output triangle
+  std::uint32_t cell;
+  std::uint32_t i;  // its position in the cut list (corner slots 4 i .. 4 i + 3)
+};
+
 struct Scratch {
   std::vector<double> s;
   std::vector<Side> side;
@@ -200,9 +208,8 @@ struct Scratch {
   std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
   std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
   std::vector<std::uint32_t> cut_cells;   // each cut cell once
-  std::vector<std::uint32_t> tri_at;      // the first triangle of each cut tetrahedron
-  std::vector<std::uint32_t> list3;       // the cut tetrahedra giving one triangle
-  std::vector<std::uint32_t> list4;       // those giving a quad
+  std::vector<CutRecord> list3;           // the cut tetrahedra giving one triangle
+  std::vector<CutRecord> list4;           // those giving a quad
   std::vector<double> cell_n3;
   std::vector<double> cell_y;  // the projected normals before scaling, with their squared norms
   // An edge index for meshes whose tets were changed after tetrahedralize.
@@ -357,7 +364,6 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   grow(sc.corner_vid, nslot);
   grow(sc.crossing, nslot);
   grow(sc.cut_cells, ncut);
-  grow(sc.tri_at, ncut);
   grow(sc.list3, ncut);
   grow(sc.list4, ncut);
   std::uint32_t* __restrict owner = sc.edge_owner.data();
@@ -366,22 +372,22 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   std::uint32_t* __restrict corner_vid = sc.corner_vid.data();
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
-  std::uint32_t* __restrict tri_at = sc.tri_at.data();
-  std::uint32_t* __restrict list3 = sc.list3.data();
-  std::uint32_t* __restrict list4 = sc.list4.data();
+  CutRecord* __restrict list3 = sc.list3.data();
+  CutRecord* __restrict list4 = sc.list4.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  // Per cut tetrahedron: its cell's claim, its first triangle and its place in the list of its
-  // case (one triangle or a quad).
+  // Per cut tetrahedron: its cell's claim and a record of what its triangles read, in the list of
+  // its case (one triangle or a quad).
   std::size_t n3 = 0, n4 = 0;
   std::uint32_t first = 0;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
     const unsigned tris = table[cut[i] & 15u].tris;
-    cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
-    tri_at[i] = first;
+    const std::uint32_t cell = tet_cell[t];
+    cell_owner[cell] = static_cast<std::uint32_t>(i);
+    const CutRecord rec{cut[i], first, cell, static_cast<std::uint32_t>(i)};
+    list3[n3] = rec;
+    list4[n4] = rec;
     first += tris;
-    list3[n3] = static_cast<std::uint32_t>(i);
-    list4[n4] = static_cast<std::uint32_t>(i);
     n3 += tris == 1;
     n4 += tris == 2;
   }
@@ -530,26 +536,37 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   double* __restrict out_uvw = out.uvw.data();
   std::uint32_t* __restrict out_tet = out.tet.data();
   std::uint32_t* __restrict out_cell = out.cell.data();
+  // Sources first (they need no crossing): both triangles of a quad, a triangle's slot twice.
+  for (std::size_t j = 0; j < n3; ++j) {
+    out_tet[list3[j].first] = list3[j].cut >> 4;
+    out_cell[list3[j].first] = list3[j].cell;
+  }
+  for (std::size_t j = 0; j < n4; ++j) {
+    const std::uint32_t w = list4[j].first;
+    out_tet[w] = out_tet[w + 1] = list4[j].cut >> 4;
+    out_cell[w] = out_cell[w + 1] = list4[j].cell;
+  }
   const std::uint32_t top = nvert - 1;  // vertex top - r is the r-th numbered from the end
-  auto write_cases = [&](auto count_tag, const std::uint32_t* list, std::size_t n) {
+  auto write_cases = [&](auto count_tag, const CutRecord* list, std::size_t n) {
     constexpr int count = decltype(count_tag)::value;
     for (std::size_t j = 0; j < n; ++j) {
-      const std::size_t i = list[j];
-      const std::uint32_t t = cut[i] >> 4;
-      const IndexedCase& ic = table[cut[i] & 15u];
+      const CutRecord rec = list[j];
+      const std::uint32_t t = rec.cut >> 4;
+      const IndexedCase ic = table[rec.cut & 15u];
       const auto& tv = tets[t];
-      const std::uint32_t cell = tet_cell[t];
-      const double* n3 = cell_n3 + 3 * std::size_t{cell};
-      const std::uint32_t* vid = corner_vid + 4 * i;
+      const double* n3 = cell_n3 + 3 * std::size_t{rec.cell};
+      const std::uint32_t* vid = corner_vid + 4 * std::size_t{rec.i};
       const double* tu = UVW + 12 * std::size_t{t};
       double uvw[count][3];
+      std::uint32_t id[count];
       for (int k = 0; k < count; ++k) {
-        // u runs from the lower vertex id of the edge.
-        // (as index arithmetic: which end is lower is not predictable)
+        // u runs from the lower vertex id of the edge (picked by index arithmetic: which end is
+        // lower is not predictable).
         const unsigned ka = ic.ka[k], kb = ic.kb[k];
         const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
         const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
-        const double u = U[top - vid[k]];
+        id[k] = top - vid[k];
+        const double u = U[id[k]];
         const double* ua = tu + 3 * lo;
         const double* ub = tu + 3 * hi;
         for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
@@ -557,15 +574,13 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       auto emit = [&](std::size_t at, int i0, int i1, int i2) {
         const int c[3] = {i0, i1, i2};
         for (int k = 0; k < 3; ++k) {
-          out_tri[3 * at + static_cast<std::size_t>(k)] = top - vid[c[k]];
+          out_tri[3 * at + static_cast<std::size_t>(k)] = id[c[k]];
           for (int r = 0; r < 3; ++r)
             out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
         }
         for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
-        out_tet[at] = t;
-        out_cell[at] = cell;
       };
-      const std::size_t w = tri_at[i];
+      const std::size_t w = rec.first;
       if constexpr (count == 3) {
         emit(w, 0, 1, 2);
       } else {
