@@ -199,7 +199,7 @@ struct CutRecord {
 struct Scratch {
   std::vector<double> s;
   std::vector<Side> side;
-  std::vector<std::uint8_t> up;
+  std::vector<std::uint8_t> up;  // 4 per vertex: byte k is 1 << k when it is positive, else 0
   std::vector<std::uint32_t> cut;         // (t << 4) | mask of each cut tetrahedron
   std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
   std::vector<std::uint32_t> crossing;    // the edge of each output vertex
@@ -264,7 +264,7 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   // classify_side's decisions as arithmetic (the sides of a generic plane are not predictable).
   unsigned any_neg = 0, any_pos = 0, any_on = 0;
-  sc.up.resize(nv);
+  sc.up.resize(4 * nv);
   const double* sv = sc.s.data();
   Side* __restrict sd = sc.side.data();
   std::uint8_t* __restrict up = sc.up.data();
@@ -273,7 +273,8 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
     assert(static_cast<int>(classify_side(sv[v], tolerance)) ==
            static_cast<int>(pos) - static_cast<int>(neg));
     sd[v] = static_cast<Side>(static_cast<int>(pos) - static_cast<int>(neg));
-    up[v] = static_cast<std::uint8_t>(pos);
+    // (byte k: the positive bit shifted to corner k's place in a sign mask)
+    for (unsigned k = 0; k < 4; ++k) up[4 * v + k] = static_cast<std::uint8_t>(pos << k);
     any_neg |= neg;
     any_pos |= pos;
     any_on |= (pos | neg) ^ 1u;
@@ -315,12 +316,15 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   std::uint32_t* __restrict cut = sc.cut.data();
   std::size_t ncut = 0;
   const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
+  // 1 for the masks of cut tetrahedra (0 and 15: all on one side).
+  static constexpr std::uint8_t kCut[16] = {0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
   auto test_tets = [&](std::size_t t0, std::size_t t1) {
     for (std::size_t t = t0; t < t1; ++t) {
       const auto& tv = tets[t];
-      const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
+      const unsigned mask = up[4 * std::size_t{tv[0]}] | up[4 * std::size_t{tv[1]} + 1] |
+                            up[4 * std::size_t{tv[2]} + 2] | up[4 * std::size_t{tv[3]} + 3];
       cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
-      ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
+      ncut += kCut[mask];
     }
   };
   const std::size_t nblocks = index.block_first.size() - 1;
@@ -331,14 +335,14 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const std::uint32_t* bvf = index.block_vertex_first.data();
     const std::uint32_t* bv = index.block_vertices.data();
     const std::size_t nbv = index.block_vertices.size();
-    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size());
+    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
     for (std::size_t b = 0; b < nblocks; ++b) {
       unsigned any = 0, all = 1;
       if (bvf[b] > bvf[b + 1] || bvf[b + 1] > nbv) return false;
       for (std::uint32_t j = bvf[b]; j < bvf[b + 1]; ++j) {
         if (bv[j] >= nvtx) return false;
-        any |= up[bv[j]];
-        all &= up[bv[j]];
+        any |= up[4 * std::size_t{bv[j]}];
+        all &= up[4 * std::size_t{bv[j]}];
       }
       if (any & ~all) test_tets(bf[b], bf[b + 1]);
     }
