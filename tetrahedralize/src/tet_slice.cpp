@@ -199,8 +199,8 @@ struct CutRecord {
 struct Scratch {
   std::vector<double> s;
   std::vector<Side> side;
-  std::vector<std::uint8_t> up;  // 4 per vertex: byte k is 1 << k when it is positive, else 0
-  std::vector<std::uint32_t> cut;         // (t << 4) | mask of each cut tetrahedron
+  std::vector<std::uint8_t> up;    // 4 per vertex: byte k is 1 << k when it is positive, else 0
+  std::vector<std::uint32_t> cut;  // (t << 4) | mask of each cut tetrahedron
   std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
   std::vector<std::uint32_t> crossing;    // the edge of each output vertex
   std::vector<double> u;                  // the parameter of each output vertex
@@ -462,7 +462,8 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const double* xa = P + 4 * std::size_t{a};
     const double* xb = P + 4 * std::size_t{b};
     const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
-    const __m128d x01 = _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
+    const __m128d x01 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
     const __m128d x23 =
         _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
     const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
@@ -946,6 +947,12 @@ const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
   return indexed_copy(mesh, sc);
 }
 
+// The identity placement, built once (not allocated per slice).
+const AffineTransform& identity4() {
+  static const AffineTransform id = AffineTransform::identity(4);
+  return id;
+}
+
 }  // namespace
 
 void to_soup(const TetSliceMesh& slice, TetSection& out) {
@@ -980,7 +987,7 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
-  return slice_tets(mesh, plane, AffineTransform::identity(4));
+  return slice_tets(mesh, plane, identity4());
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
@@ -990,11 +997,11 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
-  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+  slice_tets(mesh, plane, identity4(), out);
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
-  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+  slice_tets(mesh, plane, identity4(), out);
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
