@@ -446,7 +446,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const Eigen::Matrix<double, 3, 4>& W = pr.W;
 #if defined(__SSE2__)
   // Rows 0 and 1 of the projection as lane pairs, row 2 alone: per lane the same operations in
-  // the same order as the scalar loop below.
+  // the same order as the scalar form.
   __m128d w01[4];
   double w2[4];
   for (int c = 0; c < 4; ++c) {
@@ -455,12 +455,15 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   }
   const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
   const double off2 = pr.offset[2];
+#endif
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
     const double u = s[a] / (s[a] - s[b]);
     const double* xa = P + 4 * std::size_t{a};
     const double* xb = P + 4 * std::size_t{b};
+    double* y = out_pos + 3 * std::size_t{v};
+#if defined(__SSE2__)
     const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
     const __m128d x01 =
         _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
@@ -468,33 +471,21 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
         _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
     const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
     const __m128d x2 = _mm_unpacklo_pd(x23, x23), x3 = _mm_unpackhi_pd(x23, x23);
-    __m128d y = _mm_add_pd(_mm_mul_pd(w01[0], x0), _mm_mul_pd(w01[1], x1));
-    y = _mm_add_pd(y, _mm_mul_pd(w01[2], x2));
-    y = _mm_add_pd(y, _mm_mul_pd(w01[3], x3));
-    y = _mm_add_pd(y, off01);
-    const double y2 = w2[0] * _mm_cvtsd_f64(x0) + w2[1] * _mm_cvtsd_f64(x1) +
-                      w2[2] * _mm_cvtsd_f64(x2) + w2[3] * _mm_cvtsd_f64(x3) + off2;
-    _mm_storeu_pd(out_pos + 3 * std::size_t{v}, y);
-    out_pos[3 * std::size_t{v} + 2] = y2;
-    out_src[v] = {a, b, u};
-    U[v] = u;
-  }
+    __m128d y01 = _mm_add_pd(_mm_mul_pd(w01[0], x0), _mm_mul_pd(w01[1], x1));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[2], x2));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[3], x3));
+    _mm_storeu_pd(y, _mm_add_pd(y01, off01));
+    y[2] = w2[0] * _mm_cvtsd_f64(x0) + w2[1] * _mm_cvtsd_f64(x1) + w2[2] * _mm_cvtsd_f64(x2) +
+           w2[3] * _mm_cvtsd_f64(x3) + off2;
 #else
-  for (std::uint32_t v = 0; v < nvert; ++v) {
-    const auto& ab = edges[crossing[nvert - 1 - v]];
-    const std::uint32_t a = ab[0], b = ab[1];
-    const double u = s[a] / (s[a] - s[b]);
-    const double* xa = P + 4 * std::size_t{a};
-    const double* xb = P + 4 * std::size_t{b};
     double x[4];
     for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
     for (int r = 0; r < 3; ++r)
-      out_pos[3 * v + static_cast<std::size_t>(r)] =
-          W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
+      y[r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
+#endif
     out_src[v] = {a, b, u};
     U[v] = u;
   }
-#endif
   // The projected unit normals of the cut cells: independent square roots and divisions (two
   // at a time where SSE2 has them: the same correctly rounded results), no branch.
   {
