@@ -9,6 +9,10 @@
 #include <map>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/tolerances.hpp"
@@ -184,20 +188,30 @@ struct Prepared {
   Eigen::Vector3d offset;
 };
 
+// A cut tetrahedron as the triangle pass reads it.
+struct CutRecord {
+  std::uint32_t cut;    // (t << 4) | mask
+  std::uint32_t first;  // its first output triangle
+  std::uint32_t cell;
+  std::uint32_t i;  // its position in the cut list (corner slots 4 i .. 4 i + 3)
+};
+
 struct Scratch {
   std::vector<double> s;
   std::vector<Side> side;
-  std::vector<std::uint8_t> up;
-  std::vector<std::uint32_t> cut;         // (t << 4) | mask of each cut tetrahedron
+  std::vector<std::uint8_t> up;    // 4 per vertex: byte k is 1 << k when it is positive, else 0
+  std::vector<std::uint32_t> cut;  // (t << 4) | mask of each cut tetrahedron
   std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
   std::vector<std::uint32_t> crossing;    // the edge of each output vertex
   std::vector<double> u;                  // the parameter of each output vertex
   std::vector<std::uint32_t> edge_owner;  // the last corner slot naming the edge
   std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
-  std::vector<std::uint32_t> slot_vid;    // the vertex an owning slot gives its edge
   std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
   std::vector<std::uint32_t> cut_cells;   // each cut cell once
+  std::vector<CutRecord> list3;           // the cut tetrahedra giving one triangle
+  std::vector<CutRecord> list4;           // those giving a quad
   std::vector<double> cell_n3;
+  std::vector<double> cell_y;  // the projected normals before scaling, with their squared norms
   // An edge index for meshes whose tets were changed after tetrahedralize.
   TetMesh edge_mesh;
   // The general loop's soup, welded for the indexed form.
@@ -205,6 +219,12 @@ struct Scratch {
   std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
   std::vector<TetCutPoint> cut_buf;
 };
+
+// Scratch arrays only grow (their contents are written before they are read).
+template <class T>
+void grow(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(n);
+}
 
 Scratch& scratch() {
   thread_local Scratch sc;
@@ -242,17 +262,24 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
     max_norm2 = std::max(max_norm2, x.squaredNorm());
   }
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
-  bool any_neg = false, any_pos = false, any_on = false;
-  sc.up.resize(nv);
+  // classify_side's decisions as arithmetic (the sides of a generic plane are not predictable).
+  unsigned any_neg = 0, any_pos = 0, any_on = 0;
+  sc.up.resize(4 * nv);
+  const double* sv = sc.s.data();
+  Side* __restrict sd = sc.side.data();
+  std::uint8_t* __restrict up = sc.up.data();
   for (std::size_t v = 0; v < nv; ++v) {
-    const Side sd = classify_side(sc.s[v], tolerance);
-    sc.side[v] = sd;
-    sc.up[v] = sd > Side::On;
-    any_neg |= sd == Side::Negative;
-    any_pos |= sd == Side::Positive;
-    any_on |= sd == Side::On;
+    const unsigned pos = sv[v] > tolerance, neg = sv[v] < -tolerance;
+    assert(static_cast<int>(classify_side(sv[v], tolerance)) ==
+           static_cast<int>(pos) - static_cast<int>(neg));
+    sd[v] = static_cast<Side>(static_cast<int>(pos) - static_cast<int>(neg));
+    // (byte k: the positive bit shifted to corner k's place in a sign mask)
+    for (unsigned k = 0; k < 4; ++k) up[4 * v + k] = static_cast<std::uint8_t>(pos << k);
+    any_neg |= neg;
+    any_pos |= pos;
+    any_on |= (pos | neg) ^ 1u;
   }
-  pr.any_neg = any_neg, pr.any_pos = any_pos, pr.any_on = any_on;
+  pr.any_neg = any_neg != 0, pr.any_pos = any_pos != 0, pr.any_on = any_on != 0;
   // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
   pr.normal_map = pr.lin.inverse().transpose();
   pr.flip = pr.lin.determinant() < 0.0;
@@ -284,18 +311,20 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const std::array<std::uint32_t, 6>* tet_edges = index.tet_edges.data();
   const IndexedCase* table = kIndexedTable[pr.flip ? 1 : 0].data();
   const std::size_t T = mesh.size();
-  sc.cut.resize(T);
+  grow(sc.cut, T);
   const std::uint8_t* up = sc.up.data();
   std::uint32_t* __restrict cut = sc.cut.data();
-  std::size_t ncut = 0, tris = 0;
+  std::size_t ncut = 0;
   const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
+  // 1 for the masks of cut tetrahedra (0 and 15: all on one side).
+  static constexpr std::uint8_t kCut[16] = {0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0};
   auto test_tets = [&](std::size_t t0, std::size_t t1) {
     for (std::size_t t = t0; t < t1; ++t) {
       const auto& tv = tets[t];
-      const unsigned mask = up[tv[0]] | (up[tv[1]] << 1) | (up[tv[2]] << 2) | (up[tv[3]] << 3);
+      const unsigned mask = up[4 * std::size_t{tv[0]}] | up[4 * std::size_t{tv[1]} + 1] |
+                            up[4 * std::size_t{tv[2]} + 2] | up[4 * std::size_t{tv[3]} + 3];
       cut[ncut] = static_cast<std::uint32_t>(t << 4) | mask;
-      ncut += mask - 1u < 14u;  // 0 and 15 (all on one side) are not cut
-      tris += table[mask].tris;
+      ncut += kCut[mask];
     }
   };
   const std::size_t nblocks = index.block_first.size() - 1;
@@ -306,28 +335,21 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const std::uint32_t* bvf = index.block_vertex_first.data();
     const std::uint32_t* bv = index.block_vertices.data();
     const std::size_t nbv = index.block_vertices.size();
-    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size());
+    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
     for (std::size_t b = 0; b < nblocks; ++b) {
       unsigned any = 0, all = 1;
       if (bvf[b] > bvf[b + 1] || bvf[b + 1] > nbv) return false;
       for (std::uint32_t j = bvf[b]; j < bvf[b + 1]; ++j) {
         if (bv[j] >= nvtx) return false;
-        any |= up[bv[j]];
-        all &= up[bv[j]];
+        any |= up[4 * std::size_t{bv[j]}];
+        all &= up[4 * std::size_t{bv[j]}];
       }
       if (any & ~all) test_tets(bf[b], bf[b + 1]);
     }
   } else {
     test_tets(0, T);
   }
-  // One triangle of slack: a tetrahedron writes both triangles of a quad, a triangle's second
-  // is overwritten by the next tetrahedron (no branch on the case); trimmed at the end.
-  out.triangles.resize(3 * tris + 3);
-  out.normals.resize(3 * tris + 3);
-  out.uvw.resize(9 * tris + 9);
-  out.tet.resize(tris + 1);
-  out.cell.resize(tris + 1);
-  if (tris == 0) {
+  if (ncut == 0) {
     out.clear();
     return true;
   }
@@ -337,29 +359,48 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // store forwarding): every corner slot j = 4 i + k claims its edge (owner[e] = j, the last
   // claim stays), the owning slots number the vertices in slot order, and every slot reads its
   // owner's number. The same for the cut cells (their normals are computed together below).
-  if (sc.edge_owner.size() < ne) sc.edge_owner.resize(ne);
-  if (sc.cell_owner.size() < mesh.cell_count()) sc.cell_owner.resize(mesh.cell_count());
-  if (sc.cell_n3.size() < 3 * mesh.cell_count()) sc.cell_n3.resize(3 * mesh.cell_count());
+  // (Scratch only grows: no value-initialisation per slice.)
+  grow(sc.edge_owner, ne);
+  grow(sc.cell_owner, mesh.cell_count());
+  grow(sc.cell_n3, 3 * mesh.cell_count());
   const std::size_t nslot = 4 * ncut;
-  sc.slot_edge.resize(nslot);
-  sc.slot_vid.resize(nslot);
-  sc.corner_vid.resize(nslot);
-  sc.crossing.resize(nslot);
-  sc.cut_cells.resize(ncut);
+  grow(sc.slot_edge, nslot);
+  grow(sc.corner_vid, nslot);
+  grow(sc.crossing, nslot);
+  grow(sc.cut_cells, ncut);
+  grow(sc.list3, ncut);
+  grow(sc.list4, ncut);
   std::uint32_t* __restrict owner = sc.edge_owner.data();
   std::uint32_t* __restrict cell_owner = sc.cell_owner.data();
   std::uint32_t* __restrict slot_edge = sc.slot_edge.data();
-  std::uint32_t* __restrict slot_vid = sc.slot_vid.data();
   std::uint32_t* __restrict corner_vid = sc.corner_vid.data();
   std::uint32_t* __restrict crossing = sc.crossing.data();
   std::uint32_t* __restrict cut_cells = sc.cut_cells.data();
+  CutRecord* __restrict list3 = sc.list3.data();
+  CutRecord* __restrict list4 = sc.list4.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  bool stale = false;  // an edge id out of range (no branch)
+  // Per cut tetrahedron: its cell's claim and a record of what its triangles read, in the list of
+  // its case (one triangle or a quad).
+  std::size_t n3 = 0, n4 = 0;
+  std::uint32_t first = 0;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
+    const unsigned tris = table[cut[i] & 15u].tris;
+    const std::uint32_t cell = tet_cell[t];
+    cell_owner[cell] = static_cast<std::uint32_t>(i);
+    const CutRecord rec{cut[i], first, cell, static_cast<std::uint32_t>(i)};
+    list3[n3] = rec;
+    list4[n4] = rec;
+    first += tris;
+    n3 += tris == 1;
+    n4 += tris == 2;
+  }
+  const std::size_t tris = first;
+  // The claims of the corner slots.
+  bool stale = false;  // an edge id out of range (no branch)
+  for (std::size_t i = 0; i < ncut; ++i) {
     const IndexedCase& ic = table[cut[i] & 15u];
-    const auto& te = tet_edges[t];
-    cell_owner[tet_cell[t]] = static_cast<std::uint32_t>(i);
+    const auto& te = tet_edges[cut[i] >> 4];
     for (std::size_t k = 0; k < 4; ++k) {
       const std::uint32_t e0 = te[ic.local[k]];
       const std::uint32_t e = e0 < ne ? e0 : 0u;
@@ -369,16 +410,25 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     }
   }
   if (stale) return false;
+  out.triangles.resize(3 * tris);
+  out.normals.resize(3 * tris);
+  out.uvw.resize(9 * tris);
+  out.tet.resize(tris);
+  out.cell.resize(tris);
+  // Numbering and look-up in one pass, backwards: the owning (last) slot of an edge comes first
+  // and numbers it from the end (vertex nvert - 1 - r for the r-th owner met, so vertices are in
+  // the owners' slot order); every other slot copies its owner's number. No branch.
   std::uint32_t nvert = 0;
   std::size_t ncells = 0;
-  for (std::size_t j = 0; j < nslot; ++j) {
+  for (std::size_t j = nslot; j-- > 0;) {
     const std::uint32_t e = slot_edge[j];
-    const bool own = owner[e] == j;
-    slot_vid[j] = nvert;
+    const std::uint32_t o = owner[e];
+    const std::uint32_t own = 0u - static_cast<std::uint32_t>(o == j);
+    const std::uint32_t r = (corner_vid[o] & ~own) | (nvert & own);
+    corner_vid[j] = r;
     crossing[nvert] = e;
-    nvert += own;
+    nvert -= own;  // + 1 where owned
   }
-  for (std::size_t j = 0; j < nslot; ++j) corner_vid[j] = slot_vid[owner[slot_edge[j]]];
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t c = tet_cell[cut[i] >> 4];
     cut_cells[ncells] = c;
@@ -387,45 +437,94 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // The crossings, each once.
   out.positions.resize(3 * std::size_t{nvert});
   out.vertex_source.resize(nvert);
-  sc.u.resize(nvert);
+  grow(sc.u, nvert);
   const double* P = mesh.positions.data();
   const double* s = sc.s.data();
   double* __restrict U = sc.u.data();
   double* __restrict out_pos = out.positions.data();
   TetCutPoint* __restrict out_src = out.vertex_source.data();
   const Eigen::Matrix<double, 3, 4>& W = pr.W;
+#if defined(__SSE2__)
+  // Rows 0 and 1 of the projection as lane pairs, row 2 alone: per lane the same operations in
+  // the same order as the scalar form.
+  __m128d w01[4];
+  double w2[4];
+  for (int c = 0; c < 4; ++c) {
+    w01[c] = _mm_set_pd(W(1, c), W(0, c));
+    w2[c] = W(2, c);
+  }
+  const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
+  const double off2 = pr.offset[2];
+#endif
   for (std::uint32_t v = 0; v < nvert; ++v) {
-    const auto& ab = edges[crossing[v]];
+    const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
     const double u = s[a] / (s[a] - s[b]);
     const double* xa = P + 4 * std::size_t{a};
     const double* xb = P + 4 * std::size_t{b};
+    double* y = out_pos + 3 * std::size_t{v};
+#if defined(__SSE2__)
+    const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
+    const __m128d x01 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
+    const __m128d x23 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
+    const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
+    const __m128d x2 = _mm_unpacklo_pd(x23, x23), x3 = _mm_unpackhi_pd(x23, x23);
+    __m128d y01 = _mm_add_pd(_mm_mul_pd(w01[0], x0), _mm_mul_pd(w01[1], x1));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[2], x2));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[3], x3));
+    _mm_storeu_pd(y, _mm_add_pd(y01, off01));
+    y[2] = w2[0] * _mm_cvtsd_f64(x0) + w2[1] * _mm_cvtsd_f64(x1) + w2[2] * _mm_cvtsd_f64(x2) +
+           w2[3] * _mm_cvtsd_f64(x3) + off2;
+#else
     double x[4];
     for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
     for (int r = 0; r < 3; ++r)
-      out_pos[3 * v + static_cast<std::size_t>(r)] =
-          W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
+      y[r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
+#endif
     out_src[v] = {a, b, u};
     U[v] = u;
   }
-  // The projected unit normals of the cut cells: independent square roots and divisions, no
-  // branch.
+  // The projected unit normals of the cut cells: independent square roots and divisions (two
+  // at a time where SSE2 has them: the same correctly rounded results), no branch.
   {
     const double* CN = mesh.cell_normals.data();
     double* __restrict n3 = sc.cell_n3.data();
+    grow(sc.cell_y, 4 * ncells + 4);
+    double* __restrict yz = sc.cell_y.data();  // y0, y1, y2, |y|^2 of each cut cell
     const Eigen::Matrix<double, 3, 4>& NB = pr.NB;
     for (std::size_t j = 0; j < ncells; ++j) {
-      const std::size_t c = cut_cells[j];
-      const double* n = CN + 4 * c;
+      const double* n = CN + 4 * std::size_t{cut_cells[j]};
       double y[3];
       for (int r = 0; r < 3; ++r)
         y[r] = NB(r, 0) * n[0] + NB(r, 1) * n[1] + NB(r, 2) * n[2] + NB(r, 3) * n[3];
-      const double z = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      const double inv = z > 0.0 ? 1.0 / std::sqrt(z) : 0.0;
-      for (int r = 0; r < 3; ++r) n3[3 * c + static_cast<std::size_t>(r)] = y[r] * inv;
+      yz[4 * j] = y[0], yz[4 * j + 1] = y[1], yz[4 * j + 2] = y[2];
+      yz[4 * j + 3] = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    }
+    auto write = [&](std::size_t j, double inv) {
+      const std::size_t c = cut_cells[j];
+      for (std::size_t r = 0; r < 3; ++r) n3[3 * c + r] = yz[4 * j + r] * inv;
+    };
+    std::size_t j = 0;
+#if defined(__SSE2__)
+    const __m128d one = _mm_set1_pd(1.0), zero = _mm_setzero_pd();
+    for (; j + 2 <= ncells; j += 2) {
+      const __m128d z = _mm_set_pd(yz[4 * j + 7], yz[4 * j + 3]);
+      const __m128d inv =
+          _mm_and_pd(_mm_div_pd(one, _mm_sqrt_pd(z)), _mm_cmpgt_pd(z, zero));  // 0 where z <= 0
+      write(j, _mm_cvtsd_f64(inv));
+      write(j + 1, _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv)));
+    }
+#endif
+    for (; j < ncells; ++j) {
+      const double z = yz[4 * j + 3];
+      write(j, z > 0.0 ? 1.0 / std::sqrt(z) : 0.0);
     }
   }
-  // The triangles.
+  // The triangles, written at their final places: the cut tetrahedra giving one triangle and
+  // those giving a quad in two loops of fixed trip counts (no branch on the case, nothing
+  // written twice).
   const double* cell_n3 = sc.cell_n3.data();
   const double* UVW = mesh.corner_uvw.data();
   std::uint32_t* __restrict out_tri = out.triangles.data();
@@ -433,48 +532,62 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   double* __restrict out_uvw = out.uvw.data();
   std::uint32_t* __restrict out_tet = out.tet.data();
   std::uint32_t* __restrict out_cell = out.cell.data();
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < ncut; ++i) {
-    const std::uint32_t t = cut[i] >> 4;
-    const IndexedCase& ic = table[cut[i] & 15u];
-    const auto& tv = tets[t];
-    const std::uint32_t cell = tet_cell[t];
-    const double* n3 = cell_n3 + 3 * std::size_t{cell};
-    const std::uint32_t* vid = corner_vid + 4 * i;
-    double uvw[4][3];
-    for (int k = 0; k < 4; ++k) {
-      // u runs from the lower vertex id of the edge.
-      const int ka = ic.ka[k], kb = ic.kb[k];
-      const bool a_low = tv[static_cast<std::size_t>(ka)] < tv[static_cast<std::size_t>(kb)];
-      const int lo = a_low ? ka : kb, hi = a_low ? kb : ka;
-      const double u = U[vid[k]];
-      const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(lo));
-      const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(hi));
-      for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
-    }
-    // The fan (0, 1, 2), (0, 2, 3) of the outward cycle; a triangle's second is overwritten by
-    // the next tetrahedron (or trimmed): no branch on the case.
-    auto emit = [&](std::size_t at, int i0, int i1, int i2) {
-      const int c[3] = {i0, i1, i2};
-      for (int k = 0; k < 3; ++k) {
-        out_tri[3 * at + static_cast<std::size_t>(k)] = vid[c[k]];
-        for (int r = 0; r < 3; ++r)
-          out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
-      }
-      for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
-      out_tet[at] = t;
-      out_cell[at] = cell;
-    };
-    emit(w + ic.swap, 0, 1, 2);
-    emit(w + 1 - ic.swap, 0, 2, 3);
-    w += ic.tris;
+  // Sources first (they need no crossing): both triangles of a quad, a triangle's slot twice.
+  for (std::size_t j = 0; j < n3; ++j) {
+    out_tet[list3[j].first] = list3[j].cut >> 4;
+    out_cell[list3[j].first] = list3[j].cell;
   }
-  assert(w == tris);
-  out.triangles.resize(3 * tris);
-  out.normals.resize(3 * tris);
-  out.uvw.resize(9 * tris);
-  out.tet.resize(tris);
-  out.cell.resize(tris);
+  for (std::size_t j = 0; j < n4; ++j) {
+    const std::uint32_t w = list4[j].first;
+    out_tet[w] = out_tet[w + 1] = list4[j].cut >> 4;
+    out_cell[w] = out_cell[w + 1] = list4[j].cell;
+  }
+  const std::uint32_t top = nvert - 1;  // vertex top - r is the r-th numbered from the end
+  auto write_cases = [&](auto count_tag, const CutRecord* list, std::size_t n) {
+    constexpr int count = decltype(count_tag)::value;
+    for (std::size_t j = 0; j < n; ++j) {
+      const CutRecord rec = list[j];
+      const std::uint32_t t = rec.cut >> 4;
+      const IndexedCase ic = table[rec.cut & 15u];
+      const auto& tv = tets[t];
+      const double* n3 = cell_n3 + 3 * std::size_t{rec.cell};
+      const std::uint32_t* vid = corner_vid + 4 * std::size_t{rec.i};
+      const double* tu = UVW + 12 * std::size_t{t};
+      double uvw[count][3];
+      std::uint32_t id[count];
+      for (int k = 0; k < count; ++k) {
+        // u runs from the lower vertex id of the edge (picked by index arithmetic: which end is
+        // lower is not predictable).
+        const unsigned ka = ic.ka[k], kb = ic.kb[k];
+        const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
+        const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
+        id[k] = top - vid[k];
+        const double u = U[id[k]];
+        const double* ua = tu + 3 * lo;
+        const double* ub = tu + 3 * hi;
+        for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
+      }
+      auto emit = [&](std::size_t at, int i0, int i1, int i2) {
+        const int c[3] = {i0, i1, i2};
+        for (int k = 0; k < 3; ++k) {
+          out_tri[3 * at + static_cast<std::size_t>(k)] = id[c[k]];
+          for (int r = 0; r < 3; ++r)
+            out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
+        }
+        for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
+      };
+      const std::size_t w = rec.first;
+      if constexpr (count == 3) {
+        emit(w, 0, 1, 2);
+      } else {
+        // The fan (0, 1, 2), (0, 2, 3) of the outward cycle, the second first when turned.
+        emit(w + ic.swap, 0, 1, 2);
+        emit(w + 1 - ic.swap, 0, 2, 3);
+      }
+    }
+  };
+  write_cases(std::integral_constant<int, 3>{}, list3, n3);
+  write_cases(std::integral_constant<int, 4>{}, list4, n4);
   return true;
 }
 
@@ -825,6 +938,12 @@ const TetMesh& edge_index(const TetMesh& mesh, Scratch& sc) {
   return indexed_copy(mesh, sc);
 }
 
+// The identity placement, built once (not allocated per slice).
+const AffineTransform& identity4() {
+  static const AffineTransform id = AffineTransform::identity(4);
+  return id;
+}
+
 }  // namespace
 
 void to_soup(const TetSliceMesh& slice, TetSection& out) {
@@ -859,7 +978,7 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
-  return slice_tets(mesh, plane, AffineTransform::identity(4));
+  return slice_tets(mesh, plane, identity4());
 }
 
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
@@ -869,11 +988,11 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const Affine
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
-  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+  slice_tets(mesh, plane, identity4(), out);
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
-  slice_tets(mesh, plane, AffineTransform::identity(4), out);
+  slice_tets(mesh, plane, identity4(), out);
 }
 
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
