@@ -21,6 +21,24 @@
 
 namespace cw4d {
 
+namespace {
+
+// The first of the n ascending values x with x > h (n when none), as std::upper_bound finds
+// it, by halving without a branch on the comparisons (a sweep's vertex heights fall anywhere
+// among its layers, so a branch on each would be mispredicted half the time).
+std::uint32_t first_greater(const double* x, std::uint32_t n, double h) {
+  if (n == 0) return 0;
+  const double* base = x;
+  while (n > 1) {
+    const std::uint32_t half = n / 2;
+    base = base[half] <= h ? base + half : base;
+    n -= half;
+  }
+  return static_cast<std::uint32_t>(base - x) + (*base <= h ? 1u : 0u);
+}
+
+}  // namespace
+
 // --- sweeps ---------------------------------------------------------------------------------
 
 void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
@@ -93,9 +111,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     max_tol = std::max(max_tol, pl.tol);
   }
   const double* D = layer_d_.data();
-  auto first_above = [&](double h) {  // first layer with d > h
-    return static_cast<std::uint32_t>(std::upper_bound(D, D + L, h) - D);
-  };
+  auto first_above = [&](double h) { return first_greater(D, static_cast<std::uint32_t>(L), h); };
   // Heights once per vertex. A vertex within a layer's ON band sends that layer to slice().
   const double* P = m.positions_.data();
   height_.resize(nv);
@@ -105,10 +121,13 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   for (std::size_t v = 0; v < nv; ++v) {
     const double h = height(pl.nm, P + v * n, n);
     height_[v] = h;
-    if (events) sweep_.vertex_layer[v] = first_above(h);  // below the plane from that layer on
+    // The layers with h - delta <= d <= h + delta: those just below the first layer above h,
+    // then from it on.
     const double delta = 2.0 * max_tol;
-    for (std::uint32_t j = static_cast<std::uint32_t>(std::lower_bound(D, D + L, h - delta) - D);
-         j < L && D[j] <= h + delta; ++j)
+    std::uint32_t j = first_above(h);
+    if (events) sweep_.vertex_layer[v] = j;  // below the plane from that layer on
+    while (j > 0 && D[j - 1] >= h - delta) --j;
+    for (; j < L && D[j] <= h + delta; ++j)
       if (classify_side(h - D[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
   }
   if (events) {
@@ -222,6 +241,7 @@ namespace {
 
 constexpr std::uint32_t kSweepFlip = 0x80000000u;
 constexpr std::uint32_t kSweepSmall = 12;  // loops of up to this many steps chained in registers
+constexpr std::uint32_t kSweepChunk = 8;   // loop entries copied at a time into a layer's table
 
 // Renews a stamp generation; on wrap every stamp is forgotten.
 std::uint32_t next_stamp(std::uint32_t& stamp,
@@ -248,10 +268,13 @@ inline void flip_bit(std::uint64_t* bits, std::uint32_t x) {
 
 // list := the set bits, increasing.
 void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t>& list) {
-  list.clear();
+  std::size_t count = 0;
+  for (std::uint64_t b : bits) count += static_cast<std::size_t>(__builtin_popcountll(b));
+  list.resize(count);
+  std::uint32_t* to = list.data();
   for (std::size_t w = 0; w < bits.size(); ++w)
     for (std::uint64_t b = bits[w]; b; b &= b - 1)
-      list.push_back(static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b)));
+      *to++ = static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b));
 }
 
 // Calls f(x) for every set bit x of [b, e), in increasing order, while f returns true; false
@@ -806,13 +829,16 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       const std::uint32_t* cells = w.cells.data();
       const std::uint32_t* cell_size = w.cell_size.data();
       const std::uint32_t* cell_loop = w.cell_loop.data();
+      const std::size_t kept = w.loops.size();
+      w.loops.resize(kept + kSweepChunk);  // (read by the last chunks; cut off below)
       const std::uint32_t* loops = w.loops.data();
       const std::uint32_t* edge_index = w.edge_index.data();
       std::size_t entries = 0;
       for (std::uint32_t p = 0; p < npoly; ++p) entries += cell_size[cells[p]];
       Incidence::Storage polys = o.boundary[1].storage();
-      polys.ids.resize(entries);
-      polys.signs.resize(entries);
+      // (kSweepChunk entries beyond the end: loops are copied kSweepChunk entries at a time)
+      polys.ids.resize(entries + kSweepChunk);
+      polys.signs.resize(entries + kSweepChunk);
       polys.offsets.resize(std::size_t{npoly} + 1);
       std::vector<std::uint32_t>& src_store = o.source[2];
       src_store.resize(npoly);
@@ -828,10 +854,15 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         const std::uint32_t* loop = loops + cell_loop[c];
         const std::uint32_t cnt = cell_size[c];
         if (!reverse) {
-          for (std::uint32_t i = 0; i < cnt; ++i) {
-            ids[at + i] = edge_index[loop[i] & ~kSweepFlip];
-            signs[at + i] = (loop[i] & kSweepFlip) ? -1 : 1;
-          }
+          // Whole chunks, without a branch per entry: what a chunk writes beyond the loop's
+          // end is overwritten by the next loop (or lies in the slack cut off below); what it
+          // reads there are other loops' entries or the slack's zeros, all faces.
+          for (std::uint32_t i = 0; i < cnt; i += kSweepChunk)
+            for (std::uint32_t q = 0; q < kSweepChunk; ++q) {
+              const std::uint32_t x = loop[i + q];
+              ids[at + i + q] = edge_index[x & ~kSweepFlip];
+              signs[at + i + q] = static_cast<std::int8_t>(1 - 2 * static_cast<int>(x >> 31));
+            }
         } else {
           for (std::uint32_t i = 0; i < cnt; ++i) {
             ids[at + cnt - 1 - i] = edge_index[loop[i] & ~kSweepFlip];
@@ -842,6 +873,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         offs[p + 1] = at;
         src[p] = cell_id ? cell_id[c] : c;
       }
+      polys.ids.resize(entries);
+      polys.signs.resize(entries);
+      w.loops.resize(kept);
       if (direct) {
         o.facet_normals.resize(3 * std::size_t{npoly});
         double* normals = o.facet_normals.data();
