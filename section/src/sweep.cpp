@@ -12,6 +12,10 @@
 #include <thread>
 #include <unordered_map>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/geometry.hpp"
@@ -241,7 +245,7 @@ namespace {
 
 constexpr std::uint32_t kSweepFlip = 0x80000000u;
 constexpr std::uint32_t kSweepSmall = 12;  // loops of up to this many steps chained in registers
-constexpr std::uint32_t kSweepChunk = 8;   // loop entries copied at a time into a layer's table
+constexpr std::uint32_t kSweepChunk = 4;   // loop entries copied at a time into a layer's table
 
 // Renews a stamp generation; on wrap every stamp is forgotten.
 std::uint32_t next_stamp(std::uint32_t& stamp,
@@ -267,14 +271,38 @@ inline void flip_bit(std::uint64_t* bits, std::uint32_t x) {
 }
 
 // list := the set bits, increasing.
+// (Inline: without a popcnt instruction in the target, __builtin_popcountll is a call.)
+inline std::uint32_t bit_count(std::uint64_t x) {
+  x -= (x >> 1) & 0x5555555555555555u;
+  x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+  return static_cast<std::uint32_t>((x * 0x0101010101010101u) >> 56);
+}
+
+// list := the set bits, increasing. Eight positions are written at a time (those past a word's
+// last bit are overwritten by the next word's, or cut off), so that a word's loop ends on the
+// count of its bits in eights rather than on each bit.
 void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t>& list) {
   std::size_t count = 0;
-  for (std::uint64_t b : bits) count += static_cast<std::size_t>(__builtin_popcountll(b));
-  list.resize(count);
+  for (std::uint64_t b : bits) count += bit_count(b);
+  list.resize(count + 8);
   std::uint32_t* to = list.data();
-  for (std::size_t w = 0; w < bits.size(); ++w)
-    for (std::uint64_t b = bits[w]; b; b &= b - 1)
-      *to++ = static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b));
+  for (std::size_t w = 0; w < bits.size(); ++w) {
+    std::uint64_t b = bits[w];
+    if (b == 0) continue;
+    const std::uint32_t base = static_cast<std::uint32_t>(w * 64);
+    std::uint32_t* at = to;
+    to += bit_count(b);
+    constexpr std::uint64_t top = std::uint64_t{1} << 63;  // (no bits left: 63, not undefined)
+    do {
+      for (int q = 0; q < 8; ++q) {
+        at[q] = base + static_cast<std::uint32_t>(__builtin_ctzll(b | top));
+        b &= b - 1;
+      }
+      at += 8;
+    } while (b != 0);
+  }
+  list.resize(count);
 }
 
 // Calls f(x) for every set bit x of [b, e), in increasing order, while f returns true; false
@@ -737,7 +765,14 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       const std::uint32_t* xe = w.edges.data();
       std::uint32_t* vertex_index = w.vertex_index.data();
       const double* M = pl.M;
+#if defined(__SSE2__)
+      __m128d m01[4], m2[4];
+      for (int q = 0; q < 4; ++q) m01[q] = _mm_set_pd(M[4 + q], M[q]), m2[q] = _mm_set_sd(M[8 + q]);
+      const __m128d c01 = _mm_loadu_pd(pl.c), c2v = _mm_load_sd(pl.c + 2);
+      const __m128d one = _mm_set1_pd(1.0);
+#else
       const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
+#endif
       const double near_parallel = near_parallel_;
       bool ok = true;
       for (std::uint32_t i = 0; i < nx; ++i) {
@@ -753,6 +788,23 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         vertex_index[e] = i;
         const double* pa = P + 4 * std::size_t{a};
         const double* pb = P + 4 * std::size_t{b};
+#if defined(__SSE2__)
+        // The same operations, rows 0 and 1 in the two lanes (as the kernel's vertex pass).
+        const __m128d tt = _mm_set1_pd(t), u = _mm_sub_pd(one, tt);
+        const __m128d x01 =
+            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa)), _mm_mul_pd(tt, _mm_loadu_pd(pb)));
+        const __m128d x23 =
+            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa + 2)), _mm_mul_pd(tt, _mm_loadu_pd(pb + 2)));
+        const __m128d xq[4] = {_mm_unpacklo_pd(x01, x01), _mm_unpackhi_pd(x01, x01),
+                               _mm_unpacklo_pd(x23, x23), _mm_unpackhi_pd(x23, x23)};
+        __m128d sum = c01, s2 = c2v;
+        for (int q = 0; q < 4; ++q) {
+          sum = _mm_add_pd(sum, _mm_mul_pd(m01[q], xq[q]));
+          s2 = _mm_add_sd(s2, _mm_mul_sd(m2[q], xq[q]));
+        }
+        _mm_storeu_pd(y + 3 * i, sum);
+        _mm_store_sd(y + 3 * i + 2, s2);
+#else
         double x[4];
         for (int q = 0; q < 4; ++q) x[q] = (1.0 - t) * pa[q] + t * pb[q];
         double y0 = c0, y1 = c1, y2 = c2;
@@ -764,6 +816,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         y[3 * i] = y0;
         y[3 * i + 1] = y1;
         y[3 * i + 2] = y2;
+#endif
       }
       if (!ok) {
         single(k);  // a crossing within the weld distance, or nearly parallel
