@@ -774,20 +774,48 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
 #endif
       const double near_parallel = near_parallel_;
+      // The crossing parameters first (two at a time: the same divisions and tests, lane by
+      // lane), then the positions from them: short independent iterations.
       bool ok = true;
-      for (std::uint32_t i = 0; i < nx; ++i) {
-        const std::uint32_t e = xe[i];
-        const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
-        const double sa = H[a] - d, sb = H[b] - d;
-        const double t = sa / (sa - sb);
-        if (needs_general(sa, sb, t, edge_length[e], near_parallel, weld)) {
-          ok = false;
-          break;
+      std::uint32_t i = 0;
+#if defined(__SSE2__)
+      {
+        const __m128d dd = _mm_set1_pd(d), np = _mm_set1_pd(near_parallel), wl = _mm_set1_pd(weld);
+        const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+        __m128d bad = _mm_setzero_pd();
+        for (; i + 2 <= nx; i += 2) {
+          const std::uint32_t e0 = xe[i], e1 = xe[i + 1];
+          const __m128d ha = _mm_set_pd(H[edge_ends[2 * e1]], H[edge_ends[2 * e0]]);
+          const __m128d hb = _mm_set_pd(H[edge_ends[2 * e1 + 1]], H[edge_ends[2 * e0 + 1]]);
+          const __m128d sa = _mm_sub_pd(ha, dd), sb = _mm_sub_pd(hb, dd);
+          const __m128d diff = _mm_sub_pd(sa, sb);
+          const __m128d t = _mm_div_pd(sa, diff);
+          const __m128d len = _mm_set_pd(edge_length[e1], edge_length[e0]);
+          // needs_general, lane by lane
+          bad = _mm_or_pd(bad, _mm_cmplt_pd(_mm_and_pd(diff, magnitude), _mm_mul_pd(np, len)));
+          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(t, len), wl));
+          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(_mm_sub_pd(one, t), len), wl));
+          vs[i] = {edge_id ? edge_id[e0] : e0, 1, _mm_cvtsd_f64(t)};
+          vs[i + 1] = {edge_id ? edge_id[e1] : e1, 1, _mm_cvtsd_f64(_mm_unpackhi_pd(t, t))};
+          vertex_index[e0] = i;
+          vertex_index[e1] = i + 1;
         }
+        ok = _mm_movemask_pd(bad) == 0;
+      }
+#endif
+      for (; ok && i < nx; ++i) {
+        const std::uint32_t e = xe[i];
+        const double sa = H[edge_ends[2 * e]] - d, sb = H[edge_ends[2 * e + 1]] - d;
+        const double t = sa / (sa - sb);
+        ok = !needs_general(sa, sb, t, edge_length[e], near_parallel, weld);
         vs[i] = {edge_id ? edge_id[e] : e, 1, t};
         vertex_index[e] = i;
-        const double* pa = P + 4 * std::size_t{a};
-        const double* pb = P + 4 * std::size_t{b};
+      }
+      for (i = 0; ok && i < nx; ++i) {
+        const std::uint32_t e = xe[i];
+        const double* pa = P + 4 * std::size_t{edge_ends[2 * e]};
+        const double* pb = P + 4 * std::size_t{edge_ends[2 * e + 1]};
+        const double t = vs[i].t;
 #if defined(__SSE2__)
         // The same operations, rows 0 and 1 in the two lanes (as the kernel's vertex pass).
         const __m128d tt = _mm_set1_pd(t), u = _mm_sub_pd(one, tt);
