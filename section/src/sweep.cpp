@@ -438,23 +438,28 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
         if (tails[j] == tails[i]) return 2;  // a pinch (or a face listed twice)
       lo = tails[i] < tails[lo] ? i : lo;
     }
+    // The step leaving each step's head, + 1 (0: none), all at once (the tails are distinct),
+    // so that following the chain is a load per step.
+    std::uint32_t next[kSweepSmall];
+    for (std::uint32_t i = 0; i < ns; ++i) {
+      std::uint32_t sum = 0;
+      for (std::uint32_t j = 0; j < ns; ++j) sum += tails[j] == heads[i] ? j + 1 : 0;
+      next[i] = sum;
+    }
     const std::uint32_t start = tails[lo];
     std::uint32_t cur = lo;
     for (std::uint32_t k = 1;; ++k) {
       w.loops.push_back(entries[cur]);
-      const std::uint32_t h = heads[cur];
-      if (h == start) {
+      if (heads[cur] == start) {
         if (k == ns) break;
         w.loops.resize(first);  // several loops
         return 2;
       }
-      std::uint32_t next = kSweepSmall;
-      for (std::uint32_t j = 0; j < ns; ++j) next = tails[j] == h ? j : next;
-      if (next == kSweepSmall || k == ns) {  // the chain does not close
+      if (next[cur] == 0 || k == ns) {  // the chain does not close
         w.loops.resize(first);
         return 2;
       }
-      cur = next;
+      cur = next[cur] - 1;
     }
   } else {
     const std::uint32_t st = next_stamp(w.loop_gen, {&w.loop_stamp});
