@@ -401,13 +401,14 @@ TEST_CASE("sweep: layers whose crossings lie within the weld distance of a verte
   Counts counts;
   std::size_t weld = 0;
   for (const std::string spec : {"24-cell", "120-cell", "600-cell", "duoprism:32,32"}) {
-    INFO(spec);
     const Complex model = load_model(spec);
     const SliceModel compiled(model, SliceModelOptions::unclustered());
-    for (int round = 0; round < 2; ++round) {
-      INFO("round " << round);
+    Slicer probe;  // (counts the layers the general path welds)
+    SliceBuffers one;
+    for (const bool mirrored : {false, true}) {
+      INFO(spec << (mirrored ? ", mirrored" : ""));
+      const AffineTransform xf = mirrored ? placement(rng, true) : AffineTransform::identity(4);
       const Eigen::VectorXd normal = test::random_unit(rng, 4);
-      const AffineTransform xf = round == 0 ? AffineTransform::identity(4) : placement(rng, true);
       const std::vector<double> h = heights(model, normal, xf);
       const double span = h.back() - h.front();
       std::vector<double> d = dense(h);
@@ -423,8 +424,6 @@ TEST_CASE("sweep: layers whose crossings lie within the weld distance of a verte
         check_sweep(compiled, normal, {x}, xf, counts);
         check_sweep(compiled, normal, {x, h[pick(rng)] - 0.5e-9 * span}, xf, counts);
       }
-      Slicer probe;
-      SliceBuffers one;
       for (double x : d) {
         probe.slice(compiled, Hyperplane::from(normal, x), xf, one);
         weld += one.fallback == FallbackReason::Weld;

@@ -688,7 +688,6 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
-  const double* P = m.positions_.data();
   const double weld = m.weld_;
   const double* edge_length = m.edge_length_.data();
   const std::uint32_t* edge_ends = E.ids.data();
@@ -760,32 +759,21 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       continue;
     }
     // Rank 1: a section vertex per crossing edge, t as the kernel computes it, and its position
-    // as write_geometry computes it: y = M ((1 - t) a + t b) + c.
+    // by write_geometry's vertex pass: y = M ((1 - t) a + t b) + c.
     const std::uint32_t nx = static_cast<std::uint32_t>(w.edges.size());
     o.vertex_source.resize(nx);
-    o.coords.resize(3 * std::size_t{nx});
     {
       VertexSource* vs = o.vertex_source.data();
-      double* y = o.coords.data();
       const std::uint32_t* xe = w.edges.data();
       std::uint32_t* vertex_index = w.vertex_index.data();
-      const double* M = pl.M;
-#if defined(__SSE2__)
-      __m128d m01[4], m2[4];
-      for (int q = 0; q < 4; ++q) m01[q] = _mm_set_pd(M[4 + q], M[q]), m2[q] = _mm_set_sd(M[8 + q]);
-      const __m128d c01 = _mm_loadu_pd(pl.c), c2v = _mm_load_sd(pl.c + 2);
-      const __m128d one = _mm_set1_pd(1.0);
-#else
-      const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
-#endif
       const double near_parallel = near_parallel_;
-      // The crossing parameters first (two at a time: the same divisions and tests, lane by
-      // lane), then the positions from them: short independent iterations.
+      // Two at a time: the same divisions and tests (needs_general), lane by lane.
       bool ok = true;
       std::uint32_t i = 0;
 #if defined(__SSE2__)
       {
         const __m128d dd = _mm_set1_pd(d), np = _mm_set1_pd(near_parallel), wl = _mm_set1_pd(weld);
+        const __m128d one = _mm_set1_pd(1.0);
         const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
         __m128d bad = _mm_setzero_pd();
         for (; i + 2 <= nx; i += 2) {
@@ -796,7 +784,6 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
           const __m128d diff = _mm_sub_pd(sa, sb);
           const __m128d t = _mm_div_pd(sa, diff);
           const __m128d len = _mm_set_pd(edge_length[e1], edge_length[e0]);
-          // needs_general, lane by lane
           bad = _mm_or_pd(bad, _mm_cmplt_pd(_mm_and_pd(diff, magnitude), _mm_mul_pd(np, len)));
           bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(t, len), wl));
           bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(_mm_sub_pd(one, t), len), wl));
@@ -816,45 +803,12 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         vs[i] = {edge_id ? edge_id[e] : e, 1, t};
         vertex_index[e] = i;
       }
-      for (i = 0; ok && i < nx; ++i) {
-        const std::uint32_t e = xe[i];
-        const double* pa = P + 4 * std::size_t{edge_ends[2 * e]};
-        const double* pb = P + 4 * std::size_t{edge_ends[2 * e + 1]};
-        const double t = vs[i].t;
-#if defined(__SSE2__)
-        // The same operations, rows 0 and 1 in the two lanes (as the kernel's vertex pass).
-        const __m128d tt = _mm_set1_pd(t), u = _mm_sub_pd(one, tt);
-        const __m128d x01 =
-            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa)), _mm_mul_pd(tt, _mm_loadu_pd(pb)));
-        const __m128d x23 =
-            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa + 2)), _mm_mul_pd(tt, _mm_loadu_pd(pb + 2)));
-        const __m128d xq[4] = {_mm_unpacklo_pd(x01, x01), _mm_unpackhi_pd(x01, x01),
-                               _mm_unpacklo_pd(x23, x23), _mm_unpackhi_pd(x23, x23)};
-        __m128d sum = c01, s2 = c2v;
-        for (int q = 0; q < 4; ++q) {
-          sum = _mm_add_pd(sum, _mm_mul_pd(m01[q], xq[q]));
-          s2 = _mm_add_sd(s2, _mm_mul_sd(m2[q], xq[q]));
-        }
-        _mm_storeu_pd(y + 3 * i, sum);
-        _mm_store_sd(y + 3 * i + 2, s2);
-#else
-        double x[4];
-        for (int q = 0; q < 4; ++q) x[q] = (1.0 - t) * pa[q] + t * pb[q];
-        double y0 = c0, y1 = c1, y2 = c2;
-        for (int q = 0; q < 4; ++q) {
-          y0 += M[q] * x[q];
-          y1 += M[4 + q] * x[q];
-          y2 += M[8 + q] * x[q];
-        }
-        y[3 * i] = y0;
-        y[3 * i + 1] = y1;
-        y[3 * i + 2] = y2;
-#endif
-      }
       if (!ok) {
         single(k);  // a crossing within the weld distance, or nearly parallel
         continue;
       }
+      // (no facets: write_geometry fails only on those; their normals are written below)
+      write_geometry(m, pl, o, w.edges, {});
     }
     o.dim = 3;
     o.plane.normal = pl.plane->normal;
