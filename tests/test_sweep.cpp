@@ -389,3 +389,47 @@ TEST_CASE("sweep: one Slicer kept over several models, sweeps and slices mixed",
     if (!why.empty()) FAIL("slice between sweeps: " << why);
   }
 }
+
+TEST_CASE("sweep: layers whose crossings lie within the weld distance of a vertex",
+          "[slicer][sweep]") {
+  // A layer a little above or below a vertex (a few weld distances and less) has crossings the
+  // fast path leaves to the general one: the sweep tests every crossing of a layer (two at a
+  // time, and the last alone when their count is odd), so whichever crossing is too close,
+  // the layer must be slice()'s general one; the layers between must be fast again. Each
+  // sweep also runs alone on one such layer, and on pairs of them.
+  std::mt19937 rng(20261206);
+  Counts counts;
+  std::size_t weld = 0;
+  for (const std::string spec : {"24-cell", "120-cell", "600-cell", "duoprism:32,32"}) {
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model, SliceModelOptions::unclustered());
+    Slicer probe;  // (counts the layers the general path welds)
+    SliceBuffers one;
+    for (const bool mirrored : {false, true}) {
+      INFO(spec << (mirrored ? ", mirrored" : ""));
+      const AffineTransform xf = mirrored ? placement(rng, true) : AffineTransform::identity(4);
+      const Eigen::VectorXd normal = test::random_unit(rng, 4);
+      const std::vector<double> h = heights(model, normal, xf);
+      const double span = h.back() - h.front();
+      std::vector<double> d = dense(h);
+      std::uniform_int_distribution<std::size_t> pick(0, h.size() - 1);
+      for (int i = 0; i < 24; ++i) {
+        const double x = h[pick(rng)];
+        for (double k : {-3.0, -0.5, 0.5, 3.0, 100.0}) d.push_back(x + k * 1e-9 * span);
+      }
+      std::sort(d.begin(), d.end());
+      check_sweep(compiled, normal, d, xf, counts);
+      for (int i = 0; i < 8; ++i) {
+        const double x = h[pick(rng)] + 0.5e-9 * span;
+        check_sweep(compiled, normal, {x}, xf, counts);
+        check_sweep(compiled, normal, {x, h[pick(rng)] - 0.5e-9 * span}, xf, counts);
+      }
+      for (double x : d) {
+        probe.slice(compiled, Hyperplane::from(normal, x), xf, one);
+        weld += one.fallback == FallbackReason::Weld;
+      }
+    }
+  }
+  CHECK(weld > 50);
+  CHECK(counts.layers - counts.general - counts.empty > 5000);
+}

@@ -12,6 +12,10 @@
 #include <thread>
 #include <unordered_map>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/geometry.hpp"
@@ -20,6 +24,24 @@
 #include "slicer_detail.hpp"
 
 namespace cw4d {
+
+namespace {
+
+// The first of the n ascending values x with x > h (n when none), as std::upper_bound finds
+// it, by halving without a branch on the comparisons (a sweep's vertex heights fall anywhere
+// among its layers, so a branch on each would be mispredicted half the time).
+std::uint32_t first_greater(const double* x, std::uint32_t n, double h) {
+  if (n == 0) return 0;
+  const double* base = x;
+  while (n > 1) {
+    const std::uint32_t half = n / 2;
+    base = base[half] <= h ? base + half : base;
+    n -= half;
+  }
+  return static_cast<std::uint32_t>(base - x) + (*base <= h ? 1u : 0u);
+}
+
+}  // namespace
 
 // --- sweeps ---------------------------------------------------------------------------------
 
@@ -93,9 +115,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     max_tol = std::max(max_tol, pl.tol);
   }
   const double* D = layer_d_.data();
-  auto first_above = [&](double h) {  // first layer with d > h
-    return static_cast<std::uint32_t>(std::upper_bound(D, D + L, h) - D);
-  };
+  auto first_above = [&](double h) { return first_greater(D, static_cast<std::uint32_t>(L), h); };
   // Heights once per vertex. A vertex within a layer's ON band sends that layer to slice().
   const double* P = m.positions_.data();
   height_.resize(nv);
@@ -105,10 +125,13 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   for (std::size_t v = 0; v < nv; ++v) {
     const double h = height(pl.nm, P + v * n, n);
     height_[v] = h;
-    if (events) sweep_.vertex_layer[v] = first_above(h);  // below the plane from that layer on
+    // The layers with h - delta <= d <= h + delta: those just below the first layer above h,
+    // then from it on.
     const double delta = 2.0 * max_tol;
-    for (std::uint32_t j = static_cast<std::uint32_t>(std::lower_bound(D, D + L, h - delta) - D);
-         j < L && D[j] <= h + delta; ++j)
+    std::uint32_t j = first_above(h);
+    if (events) sweep_.vertex_layer[v] = j;  // below the plane from that layer on
+    while (j > 0 && D[j - 1] >= h - delta) --j;
+    for (; j < L && D[j] <= h + delta; ++j)
       if (classify_side(h - D[j], layer_tol_[j]) == Side::On) layer_bad_[j] = 1;
   }
   if (events) {
@@ -222,6 +245,7 @@ namespace {
 
 constexpr std::uint32_t kSweepFlip = 0x80000000u;
 constexpr std::uint32_t kSweepSmall = 12;  // loops of up to this many steps chained in registers
+constexpr std::uint32_t kSweepChunk = 4;   // loop entries copied at a time into a layer's table
 
 // Renews a stamp generation; on wrap every stamp is forgotten.
 std::uint32_t next_stamp(std::uint32_t& stamp,
@@ -247,11 +271,38 @@ inline void flip_bit(std::uint64_t* bits, std::uint32_t x) {
 }
 
 // list := the set bits, increasing.
+// (Inline: without a popcnt instruction in the target, __builtin_popcountll is a call.)
+inline std::uint32_t bit_count(std::uint64_t x) {
+  x -= (x >> 1) & 0x5555555555555555u;
+  x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+  return static_cast<std::uint32_t>((x * 0x0101010101010101u) >> 56);
+}
+
+// list := the set bits, increasing. Eight positions are written at a time (those past a word's
+// last bit are overwritten by the next word's, or cut off), so that a word's loop ends on the
+// count of its bits in eights rather than on each bit.
 void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t>& list) {
-  list.clear();
-  for (std::size_t w = 0; w < bits.size(); ++w)
-    for (std::uint64_t b = bits[w]; b; b &= b - 1)
-      list.push_back(static_cast<std::uint32_t>(w * 64 + __builtin_ctzll(b)));
+  std::size_t count = 0;
+  for (std::uint64_t b : bits) count += bit_count(b);
+  list.resize(count + 8);
+  std::uint32_t* to = list.data();
+  for (std::size_t w = 0; w < bits.size(); ++w) {
+    std::uint64_t b = bits[w];
+    if (b == 0) continue;
+    const std::uint32_t base = static_cast<std::uint32_t>(w * 64);
+    std::uint32_t* at = to;
+    to += bit_count(b);
+    constexpr std::uint64_t top = std::uint64_t{1} << 63;  // (no bits left: 63, not undefined)
+    do {
+      for (int q = 0; q < 8; ++q) {
+        at[q] = base + static_cast<std::uint32_t>(__builtin_ctzll(b | top));
+        b &= b - 1;
+      }
+      at += 8;
+    } while (b != 0);
+  }
+  list.resize(count);
 }
 
 // Calls f(x) for every set bit x of [b, e), in increasing order, while f returns true; false
@@ -387,23 +438,28 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
         if (tails[j] == tails[i]) return 2;  // a pinch (or a face listed twice)
       lo = tails[i] < tails[lo] ? i : lo;
     }
+    // The step leaving each step's head, + 1 (0: none), all at once (the tails are distinct),
+    // so that following the chain is a load per step.
+    std::uint32_t next[kSweepSmall];
+    for (std::uint32_t i = 0; i < ns; ++i) {
+      std::uint32_t sum = 0;
+      for (std::uint32_t j = 0; j < ns; ++j) sum += tails[j] == heads[i] ? j + 1 : 0;
+      next[i] = sum;
+    }
     const std::uint32_t start = tails[lo];
     std::uint32_t cur = lo;
     for (std::uint32_t k = 1;; ++k) {
       w.loops.push_back(entries[cur]);
-      const std::uint32_t h = heads[cur];
-      if (h == start) {
+      if (heads[cur] == start) {
         if (k == ns) break;
         w.loops.resize(first);  // several loops
         return 2;
       }
-      std::uint32_t next = kSweepSmall;
-      for (std::uint32_t j = 0; j < ns; ++j) next = tails[j] == h ? j : next;
-      if (next == kSweepSmall || k == ns) {  // the chain does not close
+      if (next[cur] == 0 || k == ns) {  // the chain does not close
         w.loops.resize(first);
         return 2;
       }
-      cur = next;
+      cur = next[cur] - 1;
     }
   } else {
     const std::uint32_t st = next_stamp(w.loop_gen, {&w.loop_stamp});
@@ -632,7 +688,6 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
-  const double* P = m.positions_.data();
   const double weld = m.weld_;
   const double* edge_length = m.edge_length_.data();
   const std::uint32_t* edge_ends = E.ids.data();
@@ -704,48 +759,56 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       continue;
     }
     // Rank 1: a section vertex per crossing edge, t as the kernel computes it, and its position
-    // as write_geometry computes it: y = M ((1 - t) a + t b) + c.
+    // by write_geometry's vertex pass: y = M ((1 - t) a + t b) + c.
     const std::uint32_t nx = static_cast<std::uint32_t>(w.edges.size());
     o.vertex_source.resize(nx);
-    o.coords.resize(3 * std::size_t{nx});
     {
       VertexSource* vs = o.vertex_source.data();
-      double* y = o.coords.data();
       const std::uint32_t* xe = w.edges.data();
       std::uint32_t* vertex_index = w.vertex_index.data();
-      const double* M = pl.M;
-      const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
       const double near_parallel = near_parallel_;
+      // Two at a time: the same divisions and tests (needs_general), lane by lane.
       bool ok = true;
-      for (std::uint32_t i = 0; i < nx; ++i) {
-        const std::uint32_t e = xe[i];
-        const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
-        const double sa = H[a] - d, sb = H[b] - d;
-        const double t = sa / (sa - sb);
-        if (needs_general(sa, sb, t, edge_length[e], near_parallel, weld)) {
-          ok = false;
-          break;
+      std::uint32_t i = 0;
+#if defined(__SSE2__)
+      {
+        const __m128d dd = _mm_set1_pd(d), np = _mm_set1_pd(near_parallel), wl = _mm_set1_pd(weld);
+        const __m128d one = _mm_set1_pd(1.0);
+        const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+        __m128d bad = _mm_setzero_pd();
+        for (; i + 2 <= nx; i += 2) {
+          const std::uint32_t e0 = xe[i], e1 = xe[i + 1];
+          const __m128d ha = _mm_set_pd(H[edge_ends[2 * e1]], H[edge_ends[2 * e0]]);
+          const __m128d hb = _mm_set_pd(H[edge_ends[2 * e1 + 1]], H[edge_ends[2 * e0 + 1]]);
+          const __m128d sa = _mm_sub_pd(ha, dd), sb = _mm_sub_pd(hb, dd);
+          const __m128d diff = _mm_sub_pd(sa, sb);
+          const __m128d t = _mm_div_pd(sa, diff);
+          const __m128d len = _mm_set_pd(edge_length[e1], edge_length[e0]);
+          bad = _mm_or_pd(bad, _mm_cmplt_pd(_mm_and_pd(diff, magnitude), _mm_mul_pd(np, len)));
+          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(t, len), wl));
+          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(_mm_sub_pd(one, t), len), wl));
+          vs[i] = {edge_id ? edge_id[e0] : e0, 1, _mm_cvtsd_f64(t)};
+          vs[i + 1] = {edge_id ? edge_id[e1] : e1, 1, _mm_cvtsd_f64(_mm_unpackhi_pd(t, t))};
+          vertex_index[e0] = i;
+          vertex_index[e1] = i + 1;
         }
+        ok = _mm_movemask_pd(bad) == 0;
+      }
+#endif
+      for (; ok && i < nx; ++i) {
+        const std::uint32_t e = xe[i];
+        const double sa = H[edge_ends[2 * e]] - d, sb = H[edge_ends[2 * e + 1]] - d;
+        const double t = sa / (sa - sb);
+        ok = !needs_general(sa, sb, t, edge_length[e], near_parallel, weld);
         vs[i] = {edge_id ? edge_id[e] : e, 1, t};
         vertex_index[e] = i;
-        const double* pa = P + 4 * std::size_t{a};
-        const double* pb = P + 4 * std::size_t{b};
-        double x[4];
-        for (int q = 0; q < 4; ++q) x[q] = (1.0 - t) * pa[q] + t * pb[q];
-        double y0 = c0, y1 = c1, y2 = c2;
-        for (int q = 0; q < 4; ++q) {
-          y0 += M[q] * x[q];
-          y1 += M[4 + q] * x[q];
-          y2 += M[8 + q] * x[q];
-        }
-        y[3 * i] = y0;
-        y[3 * i + 1] = y1;
-        y[3 * i + 2] = y2;
       }
       if (!ok) {
         single(k);  // a crossing within the weld distance, or nearly parallel
         continue;
       }
+      // (no facets: write_geometry fails only on those; their normals are written below)
+      write_geometry(m, pl, o, w.edges, {});
     }
     o.dim = 3;
     o.plane.normal = pl.plane->normal;
@@ -806,13 +869,16 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       const std::uint32_t* cells = w.cells.data();
       const std::uint32_t* cell_size = w.cell_size.data();
       const std::uint32_t* cell_loop = w.cell_loop.data();
+      const std::size_t kept = w.loops.size();
+      w.loops.resize(kept + kSweepChunk);  // (read by the last chunks; cut off below)
       const std::uint32_t* loops = w.loops.data();
       const std::uint32_t* edge_index = w.edge_index.data();
       std::size_t entries = 0;
       for (std::uint32_t p = 0; p < npoly; ++p) entries += cell_size[cells[p]];
       Incidence::Storage polys = o.boundary[1].storage();
-      polys.ids.resize(entries);
-      polys.signs.resize(entries);
+      // (kSweepChunk entries beyond the end: loops are copied kSweepChunk entries at a time)
+      polys.ids.resize(entries + kSweepChunk);
+      polys.signs.resize(entries + kSweepChunk);
       polys.offsets.resize(std::size_t{npoly} + 1);
       std::vector<std::uint32_t>& src_store = o.source[2];
       src_store.resize(npoly);
@@ -828,10 +894,15 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         const std::uint32_t* loop = loops + cell_loop[c];
         const std::uint32_t cnt = cell_size[c];
         if (!reverse) {
-          for (std::uint32_t i = 0; i < cnt; ++i) {
-            ids[at + i] = edge_index[loop[i] & ~kSweepFlip];
-            signs[at + i] = (loop[i] & kSweepFlip) ? -1 : 1;
-          }
+          // Whole chunks, without a branch per entry: what a chunk writes beyond the loop's
+          // end is overwritten by the next loop (or lies in the slack cut off below); what it
+          // reads there are other loops' entries or the slack's zeros, all faces.
+          for (std::uint32_t i = 0; i < cnt; i += kSweepChunk)
+            for (std::uint32_t q = 0; q < kSweepChunk; ++q) {
+              const std::uint32_t x = loop[i + q];
+              ids[at + i + q] = edge_index[x & ~kSweepFlip];
+              signs[at + i + q] = static_cast<std::int8_t>(1 - 2 * static_cast<int>(x >> 31));
+            }
         } else {
           for (std::uint32_t i = 0; i < cnt; ++i) {
             ids[at + cnt - 1 - i] = edge_index[loop[i] & ~kSweepFlip];
@@ -842,6 +913,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         offs[p + 1] = at;
         src[p] = cell_id ? cell_id[c] : c;
       }
+      polys.ids.resize(entries);
+      polys.signs.resize(entries);
+      w.loops.resize(kept);
       if (direct) {
         o.facet_normals.resize(3 * std::size_t{npoly});
         double* normals = o.facet_normals.data();
