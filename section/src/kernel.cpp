@@ -136,9 +136,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const std::uint32_t* const edge_ends = E.ids.data();
   const std::int8_t* const side = side_.data();
   const double* const s = s_.data();
-  const double* const edge_length = m.edge_length_.data();
-  const double weld = m.weld_;
-  const double near_parallel = near_parallel_;
+  const SliceModel::CrossingTest needs_general = m.crossing_test(near_parallel_);
   const std::uint32_t* const edge_model = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* const face_model = F.model_id.empty() ? nullptr : F.model_id.data();
   const std::uint32_t* const cell_model = C.model_id.empty() ? nullptr : C.model_id.data();
@@ -192,8 +190,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t e = list[i];
       const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
       const double t = s[a] / (s[a] - s[b]);
-      const double len = edge_length[e];
-      if (needs_general(s[a], s[b], t, len, near_parallel, weld)) {  // as crossing()
+      if (needs_general(a, b, s[a], s[b], t)) {  // as crossing()
         reason_ = FallbackReason::Weld;
         return stop(0);
       }

@@ -262,21 +262,19 @@ void SliceModel::find_single_solid() {
 }
 
 void SliceModel::build_cofaces() {
-  // Edge lengths, for the weld test of each crossing (summed in the order crossing() used to).
+  // The range of the edges' lengths, for the weld test of each crossing (CrossingTest).
   {
     const Rank& E = ranks_[1];
     const std::size_t ne = E.offsets.size() - 1;
-    edge_length_.resize(ne);
     const double* P = positions_.data();
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     for (std::size_t e = 0; e < ne; ++e) {
-      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
-      double len2 = 0.0;
-      for (int j = 0; j < dim_; ++j) {
-        const double d = P[b * dim_ + j] - P[a * dim_ + j];
-        len2 += d * d;
-      }
-      edge_length_[e] = std::sqrt(len2);
+      const double len = edge_length(P, dim_, E.ids[2 * e], E.ids[2 * e + 1]);
+      if (len < lo) lo = len;  // (a NaN length changes neither: its tests are false anyway)
+      if (len > hi) hi = len;
     }
+    edge_min_ = lo;
+    edge_max_ = hi;
   }
   up_offsets_.assign(top_, {});
   up_ids_.assign(top_, {});
@@ -426,7 +424,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
 }
 
 std::size_t SliceModel::bytes() const {
-  std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+  std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) +
                   tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
                   facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
                   cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +

@@ -271,9 +271,8 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
-  const double len = m.edge_length_[e];
   *t_out = t;
-  return !needs_general(s_[a], s_[b], t, len, near_parallel_, m.weld_);
+  return !m.crossing_test(near_parallel_)(a, b, s_[a], s_[b], t);
 }
 
 bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {

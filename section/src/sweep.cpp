@@ -633,8 +633,6 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   const double* H = height_.data();
   const double* D = layer_d_.data();
   const double* P = m.positions_.data();
-  const double weld = m.weld_;
-  const double* edge_length = m.edge_length_.data();
   const std::uint32_t* edge_ends = E.ids.data();
   const std::uint32_t* edge_id = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();
@@ -715,14 +713,14 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       std::uint32_t* vertex_index = w.vertex_index.data();
       const double* M = pl.M;
       const double c0 = pl.c[0], c1 = pl.c[1], c2 = pl.c[2];
-      const double near_parallel = near_parallel_;
+      const SliceModel::CrossingTest needs_general = m.crossing_test(near_parallel_);
       bool ok = true;
       for (std::uint32_t i = 0; i < nx; ++i) {
         const std::uint32_t e = xe[i];
         const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
         const double sa = H[a] - d, sb = H[b] - d;
         const double t = sa / (sa - sb);
-        if (needs_general(sa, sb, t, edge_length[e], near_parallel, weld)) {
+        if (needs_general(a, b, sa, sb, t)) {
           ok = false;
           break;
         }

@@ -116,7 +116,12 @@ class SliceModel {
   // dim_ per internal facet; empty when clustered (the complex's are read through the facets'
   // model ids: renumbered models are never compared against the complex, see compiled_from).
   std::vector<double> facet_normals_;
-  std::vector<double> edge_length_;  // per internal edge
+  // The shortest and longest edge (slicer_detail::edge_length; NaN lengths left out): with them
+  // a crossing's weld and near-parallel tests (CrossingTest, src/slicer_detail.hpp) need the
+  // edge's own length only near the thresholds.
+  double edge_min_ = 0.0, edge_max_ = 0.0;
+  struct CrossingTest;
+  CrossingTest crossing_test(double near_parallel) const;
   // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
   // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
   // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
