@@ -192,6 +192,43 @@ TEST_CASE("a polyhedron with its solid cuts into closed polygons", "[slicer]") {
   }
 }
 
+TEST_CASE("edges stored against the convention take the general path", "[slicer]") {
+  // An edge row [head, tail] with signs [+1, -1] is the chain of [tail, head] with [-1, +1],
+  // but a compiled model keeps only its edges' ends (offsets and signs implied): such a model is
+  // not fast(), and its slices are the general path's, as section_general cuts it.
+  std::mt19937 rng(8121);
+  for (const std::string spec : {"tesseract", "24-cell", "cube:3"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const int n = model.ambient_dim();
+    Complex flipped = model;
+    for (std::uint32_t e = 0; e < flipped.count(1); e += 3) {
+      auto ids = flipped.boundary_mut(1).ids_mut(e);
+      auto signs = flipped.boundary_mut(1).signs_mut(e);
+      std::swap(ids[0], ids[1]);
+      std::swap(signs[0], signs[1]);
+    }
+    const SliceModel compiled(flipped);
+    CHECK_FALSE(compiled.fast());
+    Slicer slicer;
+    SliceBuffers buffers;
+    for (int i = 0; i < 20; ++i) {
+      const AffineTransform xf = random_placement(rng, n, i % 2 == 1);
+      const Hyperplane plane = random_plane(rng, n, 2.0 * compiled.radius());
+      slicer.slice(compiled, plane, xf, buffers);
+      REQUIRE(buffers.general);
+      CHECK(buffers.fallback == FallbackReason::Model);
+      require_same_section(to_section(buffers), section_general(flipped, plane, xf), 10.0);
+    }
+    // compiled_from sees a flip made after the compile (the implied signs no longer hold).
+    Complex changed = model;
+    const SliceModel before(changed);
+    REQUIRE(before.compiled_from(changed));
+    std::swap(changed.boundary_mut(1).signs_mut(0)[0], changed.boundary_mut(1).signs_mut(0)[1]);
+    CHECK_FALSE(before.compiled_from(changed));
+  }
+}
+
 TEST_CASE("degenerate planes fall back to the general path", "[slicer]") {
   const Complex tesseract = load_model("tesseract");
   const SliceModel compiled(tesseract);

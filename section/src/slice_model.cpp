@@ -102,10 +102,16 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   max_norm_ = std::sqrt(max_norm2);
   weld_ = tol::weld_rel * (hi - lo).norm();
   const int fr = n - 1;
+  // Edges as the complex's convention has them, [tail, head] with signs [-1, +1] (then their
+  // offsets and signs are implied: only the ends are compiled).
   bool two_ends = top_ >= 1;
   if (two_ends) {
     const Incidence& edges = model.boundary(1);
-    for (std::size_t e = 0; e < edges.size() && two_ends; ++e) two_ends = edges.row_size(e) == 2;
+    two_ends = edges.entries() == 2 * edges.size();
+    const auto& off = edges.offsets();
+    const auto& sg = edges.all_signs();
+    for (std::size_t e = 0; e < edges.size() && two_ends; ++e)
+      two_ends = off[e + 1] == 2 * (e + 1) && sg[2 * e] == -1 && sg[2 * e + 1] == 1;
   }
   fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
           two_ends && every_element_bounds(model, fr - 1);
@@ -123,8 +129,10 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     positions_.assign(p.data(), p.data() + n * nv);
     for (int k = 1; k <= top_; ++k) {
       const Incidence& t = model.boundary(k);
-      ranks_[k].offsets = t.offsets();
+      ranks_[k].count = t.size();
       ranks_[k].ids = t.all_ids();
+      if (k == 1) continue;  // (implied offsets and signs)
+      ranks_[k].offsets = t.offsets();
       ranks_[k].signs = t.all_signs();
     }
     for (int k = 1; k <= fr; ++k) begin_[k - 1] = {0, static_cast<std::uint32_t>(model.count(k))};
@@ -201,11 +209,17 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     Rank& r = ranks_[k];
     const bool renumbered = k <= fr;
     const std::size_t count = t.size();
+    r.count = count;
+    r.ids.reserve(t.entries());
+    if (renumbered) r.model_id = order[k];
+    if (k == 1) {  // (implied offsets and signs)
+      for (std::size_t i = 0; i < count; ++i)
+        for (auto id : t.ids(order[1][i])) r.ids.push_back(new_id[0][id]);
+      continue;
+    }
     r.offsets.assign(1, 0);
     r.offsets.reserve(count + 1);
-    r.ids.reserve(t.entries());
     r.signs.reserve(t.entries());
-    if (renumbered) r.model_id = order[k];
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint32_t x = renumbered ? order[k][i] : static_cast<std::uint32_t>(i);
       for (auto id : t.ids(x)) r.ids.push_back(new_id[k - 1][id]);
@@ -265,7 +279,7 @@ void SliceModel::build_cofaces() {
   // The range of the edges' lengths, for the weld test of each crossing (CrossingTest).
   {
     const Rank& E = ranks_[1];
-    const std::size_t ne = E.offsets.size() - 1;
+    const std::size_t ne = E.count;
     const double* P = positions_.data();
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     for (std::size_t e = 0; e < ne; ++e) {
@@ -280,14 +294,14 @@ void SliceModel::build_cofaces() {
   up_ids_.assign(top_, {});
   for (int k = 1; k < top_; ++k) {
     const Rank& above = ranks_[k + 1];
-    const std::size_t count = ranks_[k].offsets.size() - 1;
+    const std::size_t count = ranks_[k].count;
     std::vector<std::uint32_t>& off = up_offsets_[k];
     off.assign(count + 1, 0);
     for (auto id : above.ids) ++off[id + 1];
     for (std::size_t i = 0; i < count; ++i) off[i + 1] += off[i];
     std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
     up_ids_[k].resize(above.ids.size());
-    const std::size_t rows = above.offsets.size() - 1;
+    const std::size_t rows = above.count;
     for (std::uint32_t x = 0; x < rows; ++x)
       for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
         up_ids_[k][fill[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
@@ -413,12 +427,18 @@ bool SliceModel::compiled_from(const Complex& c) const {
   for (int k = 1; k <= top_; ++k) {
     const Incidence& t = c.boundary(k);
     const Rank& r = ranks_[k];
-    if (!r.model_id.empty() || t.offsets().size() != r.offsets.size() ||
-        t.all_ids().size() != r.ids.size() ||
-        !same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
-        !same(t.all_ids().data(), r.ids.data(), r.ids.size()) ||
-        !same(t.all_signs().data(), r.signs.data(), r.signs.size()))
+    if (!r.model_id.empty() || t.size() != r.count || t.all_ids().size() != r.ids.size() ||
+        !same(t.all_ids().data(), r.ids.data(), r.ids.size()))
       return false;
+    if (k == 1) {  // still [tail, head] with signs [-1, +1]
+      const auto& off = t.offsets();
+      const auto& sg = t.all_signs();
+      for (std::size_t e = 0; e < r.count; ++e)
+        if (off[e + 1] != 2 * (e + 1) || sg[2 * e] != -1 || sg[2 * e + 1] != 1) return false;
+    } else if (!same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
+               !same(t.all_signs().data(), r.signs.data(), r.signs.size())) {
+      return false;
+    }
   }
   return true;
 }

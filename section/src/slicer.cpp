@@ -235,7 +235,7 @@ void Slicer::prepare(const SliceModel& m) {
   // generic gathering sizes the rest when it runs (size_images).
   const int from = m.dim_ == 4 && top >= 3 ? 3 : 1;
   for (int k = 1; k <= top; ++k) {
-    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    const std::size_t count = m.ranks_[k].count;
     if (k >= from && images_[k].size() < count) images_[k].resize(count);
     terms_[k].clear();
     if (mark_[k].size() < (count + 63) / 64) mark_[k].resize((count + 63) / 64, 0);
@@ -244,7 +244,7 @@ void Slicer::prepare(const SliceModel& m) {
 
 void Slicer::size_images(const SliceModel& m) {
   for (int k = 1; k <= m.top_; ++k) {
-    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    const std::size_t count = m.ranks_[k].count;
     if (images_[k].size() < count) images_[k].resize(count);
   }
 }

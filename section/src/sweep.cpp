@@ -121,7 +121,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   // layer at or above hi (dropped before the layer is built), so each layer sees exactly its
   // crossing edges.
   const SliceModel::Rank& E = m.ranks_[1];
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   bucket_offsets_.assign(L + 2, 0);
   edge_top_.resize(ne);
   edge_start_.resize(ne);
@@ -290,7 +290,7 @@ void Slicer::sweep_incidences(const SliceModel& m) {
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
   const std::size_t nv = m.positions_.size() / 4;
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
   std::vector<std::uint32_t>& cursor = w.merged;
@@ -440,7 +440,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   // The sides of `moved` (of every vertex when rebuilding) are already those of the new layer.
   SweepState& w = sweep_;
   const SliceModel::Rank& E = m.ranks_[1];
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(m.ranks_[2].offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
@@ -604,7 +604,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
   const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
   sweep_incidences(m);

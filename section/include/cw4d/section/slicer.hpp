@@ -90,6 +90,9 @@ class SliceModel {
  private:
   friend class Slicer;
   struct Rank {
+    std::size_t count = 0;  // elements
+    // Rank 1 (the edges, [tail, head] with signs [-1, +1] in a fast model) keeps only its ids:
+    // its offsets (2 i) and signs are implied, those vectors empty.
     std::vector<std::uint32_t> offsets, ids;
     std::vector<std::int8_t> signs;
     std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
