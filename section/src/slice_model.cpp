@@ -86,6 +86,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   dim_ = n;
   top_ = model.top_rank();
   const std::size_t nv = model.count(0);
+  nv_ = nv;
   const auto& p = model.positions();
   // Bounding box, sphere and the largest vertex norm (the tolerance scale of section()).
   centre_ = Eigen::VectorXd::Zero(n);
@@ -124,8 +125,8 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   const std::size_t nf = model.count(fr);
   ranks_.resize(top_ + 1);
   begin_.assign(fr, {});
-  const bool clustered = nf >= options.cluster_threshold && options.cluster_size > 0;
-  if (!clustered) {
+  clustered_ = nf >= options.cluster_threshold && options.cluster_size > 0;
+  if (!clustered_) {
     positions_.assign(p.data(), p.data() + n * nv);
     for (int k = 1; k <= top_; ++k) {
       const Incidence& t = model.boundary(k);
@@ -150,28 +151,30 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   }
   // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
   // cluster_size; every lower element goes to the first cluster whose facets reach it.
-  std::vector<std::uint64_t> key(nf);
-  for (std::uint32_t f = 0; f < nf; ++f)
-    key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+  // Vertices keep the model's ids (their positions are read from the model, not copied).
   std::vector<std::uint32_t> facet_order(nf);
-  std::iota(facet_order.begin(), facet_order.end(), 0u);
-  std::stable_sort(facet_order.begin(), facet_order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  {
+    std::vector<std::uint64_t> key(nf);
+    for (std::uint32_t f = 0; f < nf; ++f)
+      key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+    std::iota(facet_order.begin(), facet_order.end(), 0u);
+    std::stable_sort(facet_order.begin(), facet_order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  }
   const std::size_t nc = (nf + options.cluster_size - 1) / options.cluster_size;
-  // new_id[k][model id] for ranks 0..fr; order[k] = model ids in internal order.
+  // new_id[k][model id] for ranks 1..fr; order[k] = model ids in internal order.
   std::vector<std::vector<std::uint32_t>> new_id(fr + 1), order(fr + 1);
-  for (int k = 0; k <= fr; ++k) {
+  for (int k = 1; k <= fr; ++k) {
     new_id[k].assign(model.count(k), no_index);
     order[k].reserve(model.count(k));
   }
   for (int k = 1; k <= fr; ++k) begin_[k - 1].assign(1, 0);
   cluster_vertex_.assign(1, 0);
-  std::vector<std::uint32_t> stamp(nv, no_index), fresh, verts;
+  std::vector<std::uint32_t> fresh;
   std::vector<std::vector<std::uint32_t>> frontier(fr + 1);
   for (std::size_t c = 0; c < nc; ++c) {
     const std::size_t f0 = c * options.cluster_size, f1 = std::min(nf, f0 + options.cluster_size);
     for (int k = 0; k <= fr; ++k) frontier[k].clear();
-    verts.clear();
     for (std::size_t i = f0; i < f1; ++i) frontier[fr].push_back(facet_order[i]);
     // Walk down: the cluster's elements of each rank (all of them, for the vertex list), and
     // those not yet owned by an earlier cluster.
@@ -183,7 +186,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       std::sort(below.begin(), below.end());
       below.erase(std::unique(below.begin(), below.end()), below.end());
     }
-    for (int k = fr; k >= 0; --k) {
+    for (int k = fr; k >= 1; --k) {
       fresh.clear();
       for (auto x : frontier[k])
         if (new_id[k][x] == no_index) fresh.push_back(x);
@@ -192,18 +195,16 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
         new_id[k][x] = static_cast<std::uint32_t>(order[k].size());
         order[k].push_back(x);
       }
-      if (k >= 1) begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
+      begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
     }
-    for (auto v : frontier[0]) verts.push_back(new_id[0][v]);
-    std::sort(verts.begin(), verts.end());
-    cluster_vertices_.insert(cluster_vertices_.end(), verts.begin(), verts.end());
+    cluster_vertices_.insert(cluster_vertices_.end(), frontier[0].begin(), frontier[0].end());
     cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
   }
-  // Elements no facet reaches cannot exist here (every_element_bounds).
-  vertex_id_ = order[0];
-  positions_.resize(n * nv);
-  for (std::size_t i = 0; i < nv; ++i)
-    for (int j = 0; j < n; ++j) positions_[i * n + j] = p(j, vertex_id_[i]);
+  // Elements no facet reaches cannot exist here (every_element_bounds). Each renumbering table
+  // is freed as soon as the rank above it is written (the compile's peak).
+  std::vector<std::uint32_t>().swap(facet_order);
+  std::vector<std::uint32_t>().swap(fresh);
+  for (auto& f : frontier) std::vector<std::uint32_t>().swap(f);
   for (int k = 1; k <= top_; ++k) {
     const Incidence& t = model.boundary(k);
     Rank& r = ranks_[k];
@@ -211,24 +212,26 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     const std::size_t count = t.size();
     r.count = count;
     r.ids.reserve(t.entries());
-    if (renumbered) r.model_id = order[k];
-    if (k == 1) {  // (implied offsets and signs)
+    if (renumbered) r.model_id = std::move(order[k]);
+    if (k == 1) {  // (vertex ids kept; implied offsets and signs)
       for (std::size_t i = 0; i < count; ++i)
-        for (auto id : t.ids(order[1][i])) r.ids.push_back(new_id[0][id]);
+        for (auto id : t.ids(r.model_id[i])) r.ids.push_back(id);
       continue;
     }
     r.offsets.assign(1, 0);
     r.offsets.reserve(count + 1);
     r.signs.reserve(t.entries());
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint32_t x = renumbered ? order[k][i] : static_cast<std::uint32_t>(i);
+      const std::uint32_t x = renumbered ? r.model_id[i] : static_cast<std::uint32_t>(i);
       for (auto id : t.ids(x)) r.ids.push_back(new_id[k - 1][id]);
       const auto sg = t.signs(x);
       r.signs.insert(r.signs.end(), sg.begin(), sg.end());
       r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
     }
+    std::vector<std::uint32_t>().swap(new_id[k - 1]);
   }
   // (No copy of the facet normals: a slice reads the complex's through ranks_[fr].model_id.)
+  const double* P = positions();
   // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
   cluster_sphere_.resize(nc * (n + 1));
   for (std::size_t c = 0; c < nc; ++c) {
@@ -237,7 +240,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     std::fill(chi, chi + n, -std::numeric_limits<double>::infinity());
     for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i)
       for (int j = 0; j < n; ++j) {
-        const double x = positions_[cluster_vertices_[i] * n + j];
+        const double x = P[std::size_t{cluster_vertices_[i]} * n + j];
         clo[j] = std::min(clo[j], x);
         chi[j] = std::max(chi[j], x);
       }
@@ -247,7 +250,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i) {
       double d2 = 0.0;
       for (int j = 0; j < n; ++j) {
-        const double d = positions_[cluster_vertices_[i] * n + j] - sphere[j];
+        const double d = P[std::size_t{cluster_vertices_[i]} * n + j] - sphere[j];
         d2 += d * d;
       }
       r2 = std::max(r2, d2);
@@ -280,7 +283,7 @@ void SliceModel::build_cofaces() {
   {
     const Rank& E = ranks_[1];
     const std::size_t ne = E.count;
-    const double* P = positions_.data();
+    const double* P = positions();
     double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     for (std::size_t e = 0; e < ne; ++e) {
       const double len = edge_length(P, dim_, E.ids[2 * e], E.ids[2 * e + 1]);
@@ -419,7 +422,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
   const Eigen::MatrixXd& p = c.positions();
   const Eigen::MatrixXd& fn = c.facet_normals();
   if (!fast_) return false;  // (nothing compiled but the verdict)
-  if (!vertex_id_.empty() || static_cast<std::size_t>(p.size()) != positions_.size() ||
+  if (clustered_ || static_cast<std::size_t>(p.size()) != positions_.size() ||
       static_cast<std::size_t>(fn.size()) != facet_normals_.size() ||
       !same(p.data(), positions_.data(), positions_.size()) ||
       !same(fn.data(), facet_normals_.data(), facet_normals_.size()))
@@ -446,9 +449,8 @@ bool SliceModel::compiled_from(const Complex& c) const {
 std::size_t SliceModel::bytes() const {
   std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) +
                   tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
-                  facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
-                  cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +
-                  cluster_sphere_.size() * sizeof(double);
+                  facet_normals_.size() * sizeof(double) + cluster_vertex_.size() * 4 +
+                  cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;

@@ -222,7 +222,7 @@ void Slicer::clear_marks(const SliceModel& m) {
 
 void Slicer::prepare(const SliceModel& m) {
   const int top = m.top_;
-  const std::size_t nv = m.positions_.size() / m.dim_;
+  const std::size_t nv = m.nv_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
     gen_ = 1;
@@ -300,7 +300,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       touched_.push_back(static_cast<std::uint32_t>(c));
   // Signed values of the touched clusters' vertices (of all vertices, once each, when every
   // cluster is touched: the clusters' vertex lists share their border vertices).
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   auto value = [&](std::uint32_t v) {
     const double s = height(pl.nm, P + v * n, n) - pl.dm;
     const Side side = classify_side(s, pl.tol);
@@ -311,7 +311,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   if (touched_.size() == nc && n == 4) {
     // Every vertex (each belongs to a cluster): one pass without early exits, the same values
     // and sides as `value` gives.
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
     const double n0 = pl.nm[0], n1 = pl.nm[1], n2 = pl.nm[2], n3 = pl.nm[3], dm = pl.dm;
     const double tol = pl.tol;
     double* sv = s_.data();
@@ -358,7 +358,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     }
     if (on) return fail(FallbackReason::OnPlane);
   } else if (touched_.size() == nc && nc > 1) {
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
     for (std::uint32_t v = 0; v < nv; ++v)
       if (!value(v)) return fail(FallbackReason::OnPlane);
   } else {
@@ -715,7 +715,7 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   const bool copied = !m.facet_normals_.empty() || m.ranks_[o].model_id.empty();
   const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
   const std::uint32_t* fid = copied ? nullptr : m.ranks_[o].model_id.data();
-  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
+  if (!pass(m.positions(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
             out.vertex_source.data(), facet_internal, out.coords.data(), out.facet_normals.data()))
     return fail(FallbackReason::NearParallel);
   return true;
@@ -726,7 +726,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
     return false;
   const int n = m.dim_;
-  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nv = m.nv_;
   const std::size_t nc = m.cluster_count();
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   touched_.clear();
@@ -735,7 +735,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
         pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
       touched_.push_back(static_cast<std::uint32_t>(c));
   if (touched_ != out.cache_touched_) return false;
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   std::size_t k = 0;
   for (auto c : touched_)
     for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i, ++k) {

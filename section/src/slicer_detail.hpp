@@ -149,7 +149,7 @@ struct SliceModel::CrossingTest {
 };
 
 inline SliceModel::CrossingTest SliceModel::crossing_test(double near_parallel) const {
-  return {positions_.data(), dim_, edge_min_, edge_max_, weld_, near_parallel};
+  return {positions(), dim_, edge_min_, edge_max_, weld_, near_parallel};
 }
 
 namespace slicer_detail {}  // namespace slicer_detail

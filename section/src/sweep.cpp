@@ -77,7 +77,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     return;
   }
   const int n = m.dim_;
-  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nv = m.nv_;
   const std::size_t nc = m.cluster_count();
   Placement pl;
   pl.set(m, plane, &xf);
@@ -97,7 +97,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     return static_cast<std::uint32_t>(std::upper_bound(D, D + L, h) - D);
   };
   // Heights once per vertex. A vertex within a layer's ON band sends that layer to slice().
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   height_.resize(nv);
   layer_bad_.assign(L, 0);
   const bool events = n == 4 && m.top_ >= 3;
@@ -289,7 +289,7 @@ void Slicer::sweep_incidences(const SliceModel& m) {
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
-  const std::size_t nv = m.positions_.size() / 4;
+  const std::size_t nv = m.nv_;
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
@@ -594,7 +594,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
     restore = true;
   };
-  if (!m.unit_signs_ || m.positions_.size() / 4 >= kSweepFlip) {
+  if (!m.unit_signs_ || m.nv_ >= kSweepFlip) {
     // Multiplicities: the generic gathering decides every layer (and vertex ids must leave
     // the top bit free for the face entries' sign).
     for (auto k : layers) single(k);
@@ -603,7 +603,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
-  const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
+  const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
@@ -632,7 +632,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   const std::uint32_t* edge_ends = E.ids.data();
   const std::uint32_t* edge_id = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();

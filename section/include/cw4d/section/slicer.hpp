@@ -63,10 +63,11 @@ struct SliceModelOptions {
 
 /// A complex compiled for slicing: its elements in flat compressed rows, renumbered cluster by
 /// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
-/// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
-/// weld distance. Immutable after construction and safe to share between threads. Keeps a
-/// reference to `model`, which must outlive it (the general path cuts the model itself, and a
-/// clustered model's slices read its facet normals); a
+/// plane skips the clusters it misses; vertices keep their ids), the bounding sphere, the
+/// largest vertex norm and the weld distance. Immutable after construction and safe to share
+/// between threads. Keeps a reference to `model`, which must outlive it unchanged (the general
+/// path cuts the model itself, and a clustered model's slices read its positions and facet
+/// normals); a
 /// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
@@ -102,9 +103,15 @@ class SliceModel {
   int dim_ = 0;
   int top_ = 0;
   bool fast_ = false;
-  std::vector<double> positions_;         // dim_ per internal vertex
-  std::vector<std::uint32_t> vertex_id_;  // internal vertex -> model vertex (empty: identity)
-  std::vector<Rank> ranks_;               // ranks_[k], k = 1..top_ (ranks_[0] unused)
+  // Vertices keep the model's ids. dim_ per vertex: a copy of the model's positions, or
+  // (clustered models) empty, the model's own read instead.
+  std::vector<double> positions_;
+  std::size_t nv_ = 0;
+  bool clustered_ = false;
+  const double* positions() const {
+    return positions_.empty() ? model_->positions().data() : positions_.data();
+  }
+  std::vector<Rank> ranks_;  // ranks_[k], k = 1..top_ (ranks_[0] unused)
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
   // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
   // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
