@@ -295,19 +295,31 @@ void SliceModel::build_cofaces() {
   }
   up_offsets_.assign(top_, {});
   up_ids_.assign(top_, {});
+  up_stride_.assign(top_, 0);
   for (int k = 1; k < top_; ++k) {
     const Rank& above = ranks_[k + 1];
     const std::size_t count = ranks_[k].count;
     std::vector<std::uint32_t>& off = up_offsets_[k];
     off.assign(count + 1, 0);
     for (auto id : above.ids) ++off[id + 1];
+    // Every element with the same number of cofaces (a valid model's ridges: two facets each):
+    // the offsets are implied.
+    std::uint32_t stride = count > 0 ? off[1] : 0;
+    for (std::size_t i = 0; i < count && stride > 0; ++i)
+      if (off[i + 1] != stride) stride = 0;
     for (std::size_t i = 0; i < count; ++i) off[i + 1] += off[i];
-    std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
     up_ids_[k].resize(above.ids.size());
     const std::size_t rows = above.count;
-    for (std::uint32_t x = 0; x < rows; ++x)
+    for (std::uint32_t x = 0; x < rows; ++x)  // (off[id] is the fill cursor of id's list)
       for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
-        up_ids_[k][fill[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
+        up_ids_[k][off[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
+    if (stride > 0) {
+      up_stride_[k] = stride;
+      std::vector<std::uint32_t>().swap(off);
+    } else {
+      for (std::size_t i = count; i > 0; --i) off[i] = off[i - 1];  // (the cursors: ends)
+      off[0] = 0;
+    }
   }
   unit_signs_ = true;
   for (int k = 2; k <= std::min(top_, 3); ++k)
@@ -433,11 +445,14 @@ bool SliceModel::compiled_from(const Complex& c) const {
     if (!r.model_id.empty() || t.size() != r.count || t.all_ids().size() != r.ids.size() ||
         !same(t.all_ids().data(), r.ids.data(), r.ids.size()))
       return false;
-    if (k == 1) {  // still [tail, head] with signs [-1, +1]
-      const auto& off = t.offsets();
-      const auto& sg = t.all_signs();
-      for (std::size_t e = 0; e < r.count; ++e)
-        if (off[e + 1] != 2 * (e + 1) || sg[2 * e] != -1 || sg[2 * e + 1] != 1) return false;
+    if (k == 1) {  // still [tail, head] with signs [-1, +1] (branch-free: a linear pass)
+      const std::uint32_t* off = t.offsets().data();
+      const std::int8_t* sg = t.all_signs().data();
+      std::uint32_t bad = 0;
+      for (std::uint32_t e = 0; e < r.count; ++e)
+        bad |= (off[e + 1] ^ (2 * e + 2)) | static_cast<std::uint8_t>(sg[2 * e] + 1) |
+               static_cast<std::uint8_t>(sg[2 * e + 1] - 1);
+      if (bad != 0) return false;
     } else if (!same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
                !same(t.all_signs().data(), r.signs.data(), r.signs.size())) {
       return false;
@@ -455,6 +470,7 @@ std::size_t SliceModel::bytes() const {
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;
   for (const auto& v : up_offsets_) b += v.size() * 4;
+  b += up_stride_.size() * 4;
   for (const auto& v : up_ids_) b += v.size() * 4;
   return b;
 }

@@ -198,11 +198,10 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
 }
 
 void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
-  const std::vector<std::uint32_t>& off = m.up_offsets_[k];
-  const std::vector<std::uint32_t>& ids = m.up_ids_[k];
+  const SliceModel::Up up = m.up(k);
   std::vector<std::uint64_t>& bits = mark_[k + 1];
-  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) {
-    const std::uint32_t y = ids[i] & SliceModel::kUpIndex;
+  for (std::uint32_t i = up.begin(x), end = up.end(x); i < end; ++i) {
+    const std::uint32_t y = up.ids[i] & SliceModel::kUpIndex;
     bits[y >> 6] |= std::uint64_t{1} << (y & 63);
   }
 }

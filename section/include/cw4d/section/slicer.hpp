@@ -115,7 +115,18 @@ class SliceModel {
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
   // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
   // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
+  // When every element of rank k has the same number of cofaces, up_stride_[k] (else 0), its
+  // offsets are implied and up_offsets_[k] is empty: read them through up(k).
   std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
+  std::vector<std::uint32_t> up_stride_;
+  struct Up {
+    const std::uint32_t* offsets;
+    const std::uint32_t* ids;
+    std::uint32_t stride;
+    std::uint32_t begin(std::uint32_t x) const { return stride ? x * stride : offsets[x]; }
+    std::uint32_t end(std::uint32_t x) const { return stride ? (x + 1) * stride : offsets[x + 1]; }
+  };
+  Up up(int k) const { return {up_offsets_[k].data(), up_ids_[k].data(), up_stride_[k]}; }
   static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
   bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
   void build_cofaces();
