@@ -137,9 +137,12 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       ranks_[k].signs = t.all_signs();
     }
     for (int k = 1; k <= fr; ++k) begin_[k - 1] = {0, static_cast<std::uint32_t>(model.count(k))};
-    cluster_vertex_ = {0, static_cast<std::uint32_t>(nv)};
-    cluster_vertices_.resize(nv);
-    std::iota(cluster_vertices_.begin(), cluster_vertices_.end(), 0u);
+    {
+      cluster_vertex_ = {0};
+      std::vector<std::uint32_t> all(nv);
+      std::iota(all.begin(), all.end(), 0u);
+      add_cluster(all);
+    }
     cluster_sphere_.assign(centre_.data(), centre_.data() + n);
     cluster_sphere_.push_back(radius_);
     const auto& fnrm = model.facet_normals();
@@ -197,8 +200,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       }
       begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
     }
-    cluster_vertices_.insert(cluster_vertices_.end(), frontier[0].begin(), frontier[0].end());
-    cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
+    add_cluster(frontier[0]);
   }
   // Elements no facet reaches cannot exist here (every_element_bounds). Each renumbering table
   // is freed as soon as the rank above it is written (the compile's peak).
@@ -238,28 +240,46 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     double clo[kMaxDim], chi[kMaxDim];
     std::fill(clo, clo + n, std::numeric_limits<double>::infinity());
     std::fill(chi, chi + n, -std::numeric_limits<double>::infinity());
-    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i)
+    each_cluster_vertex(static_cast<std::uint32_t>(c), [&](std::uint32_t v) {
       for (int j = 0; j < n; ++j) {
-        const double x = P[std::size_t{cluster_vertices_[i]} * n + j];
+        const double x = P[std::size_t{v} * n + j];
         clo[j] = std::min(clo[j], x);
         chi[j] = std::max(chi[j], x);
       }
+      return true;
+    });
     double* sphere = &cluster_sphere_[c * (n + 1)];
     for (int j = 0; j < n; ++j) sphere[j] = 0.5 * (clo[j] + chi[j]);
     double r2 = 0.0;
-    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i) {
+    each_cluster_vertex(static_cast<std::uint32_t>(c), [&](std::uint32_t v) {
       double d2 = 0.0;
       for (int j = 0; j < n; ++j) {
-        const double d = P[std::size_t{cluster_vertices_[i]} * n + j] - sphere[j];
+        const double d = P[std::size_t{v} * n + j] - sphere[j];
         d2 += d * d;
       }
       r2 = std::max(r2, d2);
-    }
+      return true;
+    });
     sphere[n] = std::sqrt(r2);
   }
   build_cofaces();
   find_single_solid();
   build_tet_tables();
+}
+
+void SliceModel::add_cluster(std::span<const std::uint32_t> vertices) {
+  std::uint32_t last = 0xffffffffu;
+  for (const std::uint32_t v : vertices) {
+    const std::uint32_t d = v - last;  // (>= 1; below 2^31: ids fit in kUpIndex)
+    last = v;
+    if (d < 0x8000u) {
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(d));
+    } else {
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(0x8000u | (d >> 16)));
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(d & 0xffffu));
+    }
+  }
+  cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
 }
 
 void SliceModel::find_single_solid() {
@@ -426,6 +446,16 @@ void SliceModel::build_tet_tables() {
   tet_cases_ = std::move(cases);
 }
 
+namespace {
+// The signs -1, +1 of an edge as one 16-bit word (in memory order).
+const std::uint16_t kEdgeSigns = [] {
+  const std::int8_t pair[2] = {-1, 1};
+  std::uint16_t w;
+  std::memcpy(&w, pair, 2);
+  return w;
+}();
+}  // namespace
+
 bool SliceModel::compiled_from(const Complex& c) const {
   if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
   const auto same = [](const auto* a, const auto* b, std::size_t count) {
@@ -445,13 +475,17 @@ bool SliceModel::compiled_from(const Complex& c) const {
     if (!r.model_id.empty() || t.size() != r.count || t.all_ids().size() != r.ids.size() ||
         !same(t.all_ids().data(), r.ids.data(), r.ids.size()))
       return false;
-    if (k == 1) {  // still [tail, head] with signs [-1, +1] (branch-free: a linear pass)
+    if (k == 1) {  // still [tail, head] with signs [-1, +1] (branch-free passes)
       const std::uint32_t* off = t.offsets().data();
       const std::int8_t* sg = t.all_signs().data();
       std::uint32_t bad = 0;
-      for (std::uint32_t e = 0; e < r.count; ++e)
-        bad |= (off[e + 1] ^ (2 * e + 2)) | static_cast<std::uint8_t>(sg[2 * e] + 1) |
-               static_cast<std::uint8_t>(sg[2 * e + 1] - 1);
+      const std::size_t rows = r.count + 1;
+      for (std::size_t e = 0; e < rows; ++e) bad |= off[e] ^ static_cast<std::uint32_t>(2 * e);
+      for (std::size_t e = 0; e < r.count; ++e) {
+        std::uint16_t pair;  // the bytes -1, +1
+        std::memcpy(&pair, sg + 2 * e, 2);
+        bad |= pair ^ kEdgeSigns;
+      }
       if (bad != 0) return false;
     } else if (!same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
                !same(t.all_signs().data(), r.signs.data(), r.signs.size())) {
@@ -465,7 +499,7 @@ std::size_t SliceModel::bytes() const {
   std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) +
                   tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
                   facet_normals_.size() * sizeof(double) + cluster_vertex_.size() * 4 +
-                  cluster_vertices_.size() * 4 + cluster_sphere_.size() * sizeof(double);
+                  cluster_vertices_.size() * 2 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;

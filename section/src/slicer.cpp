@@ -362,8 +362,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       if (!value(v)) return fail(FallbackReason::OnPlane);
   } else {
     for (auto c : touched_)
-      for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-        if (!value(m.cluster_vertices_[i])) return fail(FallbackReason::OnPlane);
+      if (!m.each_cluster_vertex(c, value)) return fail(FallbackReason::OnPlane);
   }
   if (kernel_ && n == 4 && m.top_ >= 3) {
     const int done = kernel_slice(m, pl, out);
@@ -568,8 +567,10 @@ void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& ou
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
   for (auto c : touched_)
-    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-      out.cache_side_.push_back(side_[m.cluster_vertices_[i]]);
+    m.each_cluster_vertex(c, [&](std::uint32_t v) {
+      out.cache_side_.push_back(side_[v]);
+      return true;
+    });
   out.cache_edge_ = section_edge_;
   out.cache_facet_ = facet_internal_;
   out.cache_reflect_ = pl.reflect;
@@ -737,13 +738,15 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   const double* P = m.positions();
   std::size_t k = 0;
   for (auto c : touched_)
-    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i, ++k) {
-      const std::uint32_t v = m.cluster_vertices_[i];
-      const double s = height(pl.nm, P + v * n, n) - pl.dm;
-      const Side side = classify_side(s, pl.tol);
-      if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k]) return false;
-      s_[v] = s;
-    }
+    if (!m.each_cluster_vertex(c, [&](std::uint32_t v) {
+          const double s = height(pl.nm, P + v * n, n) - pl.dm;
+          const Side side = classify_side(s, pl.tol);
+          if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k++])
+            return false;
+          s_[v] = s;
+          return true;
+        }))
+      return false;
   // Same sides: the same connectivity. New crossing parameters, positions and normals.
   for (std::size_t i = 0; i < out.cache_edge_.size(); ++i)
     if (!crossing(m, out.cache_edge_[i], &out.vertex_source[i].t)) return false;

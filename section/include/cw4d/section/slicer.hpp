@@ -152,10 +152,29 @@ class SliceModel {
   std::vector<std::uint16_t> tet_cases_;
   void build_tet_tables();
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
-  // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
-  // above the facets are always processed. One cluster (no reordering) for small models.
+  // 1 <= k <= dim_-1 and needs the vertices listed in cluster_vertices_[cluster_vertex_[c] ...
+  // cluster_vertex_[c + 1]); ranks above the facets are always processed. One cluster (no
+  // reordering) for small models. A cluster's list is its vertex ids in increasing order, each
+  // as its difference from the previous one (the first from -1) in one 16-bit word, or in two
+  // when it is 2^15 or more (the first with the top bit set, holding the high bits).
   std::vector<std::vector<std::uint32_t>> begin_;
-  std::vector<std::uint32_t> cluster_vertex_, cluster_vertices_;
+  std::vector<std::uint32_t> cluster_vertex_;
+  std::vector<std::uint16_t> cluster_vertices_;
+  void add_cluster(std::span<const std::uint32_t> vertices);  // (ascending)
+  // Calls f(v) for the vertices of cluster c in increasing order while it returns true; false
+  // when it stopped.
+  template <class F>
+  bool each_cluster_vertex(std::uint32_t c, F&& f) const {
+    const std::uint16_t* w = cluster_vertices_.data();
+    std::uint32_t v = 0xffffffffu;
+    for (std::uint32_t i = cluster_vertex_[c], end = cluster_vertex_[c + 1]; i < end;) {
+      std::uint32_t d = w[i++];
+      if (d & 0x8000u) d = (d & 0x7fffu) << 16 | w[i++];
+      v += d;
+      if (!f(v)) return false;
+    }
+    return true;
+  }
   std::vector<double> cluster_sphere_;  // (dim_ centre, radius) per cluster
   Eigen::VectorXd centre_;
   double radius_ = 0.0;
