@@ -195,6 +195,98 @@ TEST_CASE("a polyhedron with its solid cuts into closed polygons", "[slicer]") {
   }
 }
 
+TEST_CASE("edges stored against the convention take the general path", "[slicer]") {
+  // An edge row [head, tail] with signs [+1, -1] is the chain of [tail, head] with [-1, +1],
+  // but a compiled model keeps only its edges' ends (offsets and signs implied): such a model is
+  // not fast(), and its slices are the general path's, as section_general cuts it.
+  std::mt19937 rng(8121);
+  for (const std::string spec : {"tesseract", "24-cell", "cube:3"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const int n = model.ambient_dim();
+    Complex flipped = model;
+    for (std::uint32_t e = 0; e < flipped.count(1); e += 3) {
+      auto ids = flipped.boundary_mut(1).ids_mut(e);
+      auto signs = flipped.boundary_mut(1).signs_mut(e);
+      std::swap(ids[0], ids[1]);
+      std::swap(signs[0], signs[1]);
+    }
+    const SliceModel compiled(flipped);
+    CHECK_FALSE(compiled.fast());
+    Slicer slicer;
+    SliceBuffers buffers;
+    for (int i = 0; i < 20; ++i) {
+      const AffineTransform xf = random_placement(rng, n, i % 2 == 1);
+      const Hyperplane plane = random_plane(rng, n, 2.0 * compiled.radius());
+      slicer.slice(compiled, plane, xf, buffers);
+      REQUIRE(buffers.general);
+      CHECK(buffers.fallback == FallbackReason::Model);
+      require_same_section(to_section(buffers), section_general(flipped, plane, xf), 10.0);
+    }
+    // compiled_from sees a flip made after the compile (the implied signs no longer hold).
+    Complex changed = model;
+    const SliceModel before(changed);
+    REQUIRE(before.compiled_from(changed));
+    std::swap(changed.boundary_mut(1).signs_mut(0)[0], changed.boundary_mut(1).signs_mut(0)[1]);
+    CHECK_FALSE(before.compiled_from(changed));
+  }
+}
+
+TEST_CASE("elements with different numbers of cofaces slice as the general path", "[slicer]") {
+  // A tesseract with its solid beside a 600-cell: edges in 3 and in 5 faces, cells in one solid
+  // and in none (the compiled coface lists keep their offsets), faces in two cells each (implied
+  // offsets); unclustered and clustered.
+  std::mt19937 rng(8122);
+  Complex a = load_model("tesseract");
+  std::vector<std::uint32_t> cells(a.count(3));
+  for (std::uint32_t i = 0; i < cells.size(); ++i) cells[i] = i;
+  a.boundary_mut(4).add_row(cells, std::vector<std::int8_t>(cells.size(), 1));
+  const Complex b = load_model("600-cell");
+  Complex u(4);
+  const Eigen::Index na = a.positions().cols(), nb = b.positions().cols();
+  Eigen::MatrixXd pos(4, na + nb);
+  pos.leftCols(na) = a.positions();
+  pos.rightCols(nb) = b.positions().colwise() + Eigen::Vector4d(0.5, 2.5, 0.0, 0.0);
+  u.set_positions(pos);
+  for (int r = 1; r <= 4; ++r) {
+    Incidence& dst = u.boundary_mut(r);
+    const auto base = static_cast<std::uint32_t>(a.count(r - 1));
+    for (std::uint32_t x = 0; x < a.boundary(r).size(); ++x)
+      dst.add_row(a.boundary(r).ids(x), a.boundary(r).signs(x));
+    if (r > b.top_rank()) continue;
+    for (std::uint32_t x = 0; x < b.boundary(r).size(); ++x) {
+      std::vector<std::uint32_t> ids(b.boundary(r).ids(x).begin(), b.boundary(r).ids(x).end());
+      for (auto& id : ids) id += base;
+      dst.add_row(ids, b.boundary(r).signs(x));
+    }
+  }
+  Eigen::MatrixXd normals(4, a.facet_normals().cols() + b.facet_normals().cols());
+  normals << a.facet_normals(), b.facet_normals();
+  u.set_facet_normals(normals);
+  for (const SliceModelOptions options :
+       {SliceModelOptions::unclustered(), SliceModelOptions{16, 8}}) {
+    const SliceModel compiled(u, options);
+    REQUIRE(compiled.fast());
+    Slicer slicer;
+    SliceBuffers buffers;
+    std::size_t fast = 0;
+    for (int i = 0; i < 60; ++i) {
+      const AffineTransform xf = random_placement(rng, 4, i % 2 == 1);
+      const Hyperplane plane = random_plane(rng, 4, 4.0 * compiled.radius());
+      slicer.slice(compiled, plane, xf, buffers);
+      fast += !buffers.general;
+      const Section cut = to_section(buffers), general = section_general(u, plane, xf);
+      if (options.cluster_threshold == SliceModelOptions::unclustered().cluster_threshold) {
+        require_same_section(cut, general, 10.0 * compiled.radius());
+      } else {  // renumbered: the same solid
+        REQUIRE(cut.complex.count(3) == general.complex.count(3));
+        REQUIRE(std::abs(signed_volume(cut.complex) - signed_volume(general.complex)) <= 1e-10);
+      }
+    }
+    CHECK(fast == 60);
+  }
+}
+
 TEST_CASE("degenerate planes fall back to the general path", "[slicer]") {
   const Complex tesseract = load_model("tesseract");
   const SliceModel compiled(tesseract);

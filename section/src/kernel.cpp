@@ -136,9 +136,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   const std::uint32_t* const edge_ends = E.ids.data();
   const std::int8_t* const side = side_.data();
   const double* const s = s_.data();
-  const double* const edge_length = m.edge_length_.data();
-  const double weld = m.weld_;
-  const double near_parallel = near_parallel_;
+  const SliceModel::CrossingTest needs_general = m.crossing_test(near_parallel_);
   const std::uint32_t* const edge_model = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* const face_model = F.model_id.empty() ? nullptr : F.model_id.data();
   const std::uint32_t* const cell_model = C.model_id.empty() ? nullptr : C.model_id.data();
@@ -168,15 +166,14 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
     return result;
   };
-  const std::uint32_t* const edge_up = m.up_offsets_[1].data();
-  const std::uint32_t* const edge_up_ids = m.up_ids_[1].data();
-  const std::uint32_t* const face_up = m.up_offsets_[2].data();
-  const std::uint32_t* const face_up_ids = m.up_ids_[2].data();
+  const SliceModel::Up edge_up = m.up(1), face_up = m.up(2);
+  const std::uint32_t* const edge_up_ids = edge_up.ids;
+  const std::uint32_t* const face_up_ids = face_up.ids;
   // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
   // coefficient in the face's cut (the kFlip bit: +1). The crossing edges of every touched
   // cluster are listed first, without a branch (the sides are unpredictable), or those a sweep
   // marked; then the outputs are sized once.
-  const std::size_t ne = E.offsets.size() - 1;
+  const std::size_t ne = E.count;
   if (crossing_ids_.size() < ne) crossing_ids_.resize(ne);
   std::uint32_t* const list = crossing_ids_.data();
   std::uint32_t count = 0;
@@ -210,8 +207,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t e = list[v];
       const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
       const double t = s[a] / (s[a] - s[b]);
-      const double len = edge_length[e];
-      if (needs_general(s[a], s[b], t, len, near_parallel, weld)) {  // as crossing()
+      if (needs_general(a, b, s[a], s[b], t)) {  // as crossing()
         reason_ = FallbackReason::Weld;
         return stop(0);
       }
@@ -220,7 +216,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
       // cut that times the edge's sign there (the coface's top bit: -1).
       const std::uint32_t tail_above = side[a] < 0 ? 0u : kFlip;
-      const std::uint32_t j0 = edge_up[e], j1 = edge_up[e + 1];
+      const std::uint32_t j0 = edge_up.begin(e), j1 = edge_up.end(e);
       for (std::uint32_t j = j0; j < j1; ++j) {
         const std::uint32_t up = edge_up_ids[j];
         const std::uint32_t f = up & kIndex;
@@ -265,7 +261,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       edge_row[2 * se + 1] = hd;
       src[se] = face_model ? face_model[x] : x;
       face_edge[x] = se;
-      const std::uint32_t j0 = face_up[x], j1 = face_up[x + 1];
+      const std::uint32_t j0 = face_up.begin(x), j1 = face_up.end(x);
       if (buckets) {
         for (std::uint32_t j = j0; j < j1; ++j) {
           const std::uint32_t up = face_up_ids[j];
@@ -321,8 +317,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const src = out.source[2].data();
     std::uint32_t* const facet = facet_internal_.data();
     LoopStep* const step = loop_step_.data();
-    const std::uint32_t* const solid_up = above ? m.up_offsets_[3].data() : nullptr;
-    const std::uint32_t* const solid_up_ids = above ? m.up_ids_[3].data() : nullptr;
+    const SliceModel::Up solid_up = above ? m.up(3) : SliceModel::Up{nullptr, nullptr, 0};
+    const std::uint32_t* const solid_up_ids = solid_up.ids;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     const std::uint32_t* const cell_off = C.offsets.data();
     std::uint32_t* const fill = cell_fill_.data();
@@ -406,7 +402,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
           images_[3][x] = {gen_, static_cast<std::uint32_t>(terms_[3].size()), 1};
           terms_[3].push_back({poly, 1});
         }
-        for (std::uint32_t j = solid_up[x]; j < solid_up[x + 1]; ++j) {  // mark_parents
+        for (std::uint32_t j = solid_up.begin(x); j < solid_up.end(x); ++j) {  // mark_parents
           const std::uint32_t y = solid_up_ids[j] & kIndex;
           solid_bits[y >> 6] |= std::uint64_t{1} << (y & 63);
         }

@@ -86,6 +86,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   dim_ = n;
   top_ = model.top_rank();
   const std::size_t nv = model.count(0);
+  nv_ = nv;
   const auto& p = model.positions();
   // Bounding box, sphere and the largest vertex norm (the tolerance scale of section()).
   centre_ = Eigen::VectorXd::Zero(n);
@@ -102,10 +103,16 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   max_norm_ = std::sqrt(max_norm2);
   weld_ = tol::weld_rel * (hi - lo).norm();
   const int fr = n - 1;
+  // Edges as the complex's convention has them, [tail, head] with signs [-1, +1] (then their
+  // offsets and signs are implied: only the ends are compiled).
   bool two_ends = top_ >= 1;
   if (two_ends) {
     const Incidence& edges = model.boundary(1);
-    for (std::size_t e = 0; e < edges.size() && two_ends; ++e) two_ends = edges.row_size(e) == 2;
+    two_ends = edges.entries() == 2 * edges.size();
+    const auto& off = edges.offsets();
+    const auto& sg = edges.all_signs();
+    for (std::size_t e = 0; e < edges.size() && two_ends; ++e)
+      two_ends = off[e + 1] == 2 * (e + 1) && sg[2 * e] == -1 && sg[2 * e + 1] == 1;
   }
   fast_ = (n == 3 || n == 4) && nv > 0 && (top_ == fr || top_ == n) && model.has_facet_normals() &&
           two_ends && every_element_bounds(model, fr - 1);
@@ -118,19 +125,24 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   const std::size_t nf = model.count(fr);
   ranks_.resize(top_ + 1);
   begin_.assign(fr, {});
-  const bool clustered = nf >= options.cluster_threshold && options.cluster_size > 0;
-  if (!clustered) {
+  clustered_ = nf >= options.cluster_threshold && options.cluster_size > 0;
+  if (!clustered_) {
     positions_.assign(p.data(), p.data() + n * nv);
     for (int k = 1; k <= top_; ++k) {
       const Incidence& t = model.boundary(k);
-      ranks_[k].offsets = t.offsets();
+      ranks_[k].count = t.size();
       ranks_[k].ids = t.all_ids();
+      if (k == 1) continue;  // (implied offsets and signs)
+      ranks_[k].offsets = t.offsets();
       ranks_[k].signs = t.all_signs();
     }
     for (int k = 1; k <= fr; ++k) begin_[k - 1] = {0, static_cast<std::uint32_t>(model.count(k))};
-    cluster_vertex_ = {0, static_cast<std::uint32_t>(nv)};
-    cluster_vertices_.resize(nv);
-    std::iota(cluster_vertices_.begin(), cluster_vertices_.end(), 0u);
+    {
+      cluster_vertex_ = {0};
+      std::vector<std::uint32_t> all(nv);
+      std::iota(all.begin(), all.end(), 0u);
+      add_cluster(all);
+    }
     cluster_sphere_.assign(centre_.data(), centre_.data() + n);
     cluster_sphere_.push_back(radius_);
     const auto& fnrm = model.facet_normals();
@@ -142,28 +154,30 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   }
   // Clusters: facets sorted by the Morton code of their first vertex, cut into runs of
   // cluster_size; every lower element goes to the first cluster whose facets reach it.
-  std::vector<std::uint64_t> key(nf);
-  for (std::uint32_t f = 0; f < nf; ++f)
-    key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+  // Vertices keep the model's ids (their positions are read from the model, not copied).
   std::vector<std::uint32_t> facet_order(nf);
-  std::iota(facet_order.begin(), facet_order.end(), 0u);
-  std::stable_sort(facet_order.begin(), facet_order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  {
+    std::vector<std::uint64_t> key(nf);
+    for (std::uint32_t f = 0; f < nf; ++f)
+      key[f] = morton(p.col(model.first_vertex(fr, f)).data(), lo.data(), hi.data(), n);
+    std::iota(facet_order.begin(), facet_order.end(), 0u);
+    std::stable_sort(facet_order.begin(), facet_order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  }
   const std::size_t nc = (nf + options.cluster_size - 1) / options.cluster_size;
-  // new_id[k][model id] for ranks 0..fr; order[k] = model ids in internal order.
+  // new_id[k][model id] for ranks 1..fr; order[k] = model ids in internal order.
   std::vector<std::vector<std::uint32_t>> new_id(fr + 1), order(fr + 1);
-  for (int k = 0; k <= fr; ++k) {
+  for (int k = 1; k <= fr; ++k) {
     new_id[k].assign(model.count(k), no_index);
     order[k].reserve(model.count(k));
   }
   for (int k = 1; k <= fr; ++k) begin_[k - 1].assign(1, 0);
   cluster_vertex_.assign(1, 0);
-  std::vector<std::uint32_t> stamp(nv, no_index), fresh, verts;
+  std::vector<std::uint32_t> fresh;
   std::vector<std::vector<std::uint32_t>> frontier(fr + 1);
   for (std::size_t c = 0; c < nc; ++c) {
     const std::size_t f0 = c * options.cluster_size, f1 = std::min(nf, f0 + options.cluster_size);
     for (int k = 0; k <= fr; ++k) frontier[k].clear();
-    verts.clear();
     for (std::size_t i = f0; i < f1; ++i) frontier[fr].push_back(facet_order[i]);
     // Walk down: the cluster's elements of each rank (all of them, for the vertex list), and
     // those not yet owned by an earlier cluster.
@@ -175,7 +189,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
       std::sort(below.begin(), below.end());
       below.erase(std::unique(below.begin(), below.end()), below.end());
     }
-    for (int k = fr; k >= 0; --k) {
+    for (int k = fr; k >= 1; --k) {
       fresh.clear();
       for (auto x : frontier[k])
         if (new_id[k][x] == no_index) fresh.push_back(x);
@@ -184,65 +198,88 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
         new_id[k][x] = static_cast<std::uint32_t>(order[k].size());
         order[k].push_back(x);
       }
-      if (k >= 1) begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
+      begin_[k - 1].push_back(static_cast<std::uint32_t>(order[k].size()));
     }
-    for (auto v : frontier[0]) verts.push_back(new_id[0][v]);
-    std::sort(verts.begin(), verts.end());
-    cluster_vertices_.insert(cluster_vertices_.end(), verts.begin(), verts.end());
-    cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
+    add_cluster(frontier[0]);
   }
-  // Elements no facet reaches cannot exist here (every_element_bounds).
-  vertex_id_ = order[0];
-  positions_.resize(n * nv);
-  for (std::size_t i = 0; i < nv; ++i)
-    for (int j = 0; j < n; ++j) positions_[i * n + j] = p(j, vertex_id_[i]);
+  // Elements no facet reaches cannot exist here (every_element_bounds). Each renumbering table
+  // is freed as soon as the rank above it is written (the compile's peak).
+  std::vector<std::uint32_t>().swap(facet_order);
+  std::vector<std::uint32_t>().swap(fresh);
+  for (auto& f : frontier) std::vector<std::uint32_t>().swap(f);
   for (int k = 1; k <= top_; ++k) {
     const Incidence& t = model.boundary(k);
     Rank& r = ranks_[k];
     const bool renumbered = k <= fr;
     const std::size_t count = t.size();
+    r.count = count;
+    r.ids.reserve(t.entries());
+    if (renumbered) r.model_id = std::move(order[k]);
+    if (k == 1) {  // (vertex ids kept; implied offsets and signs)
+      for (std::size_t i = 0; i < count; ++i)
+        for (auto id : t.ids(r.model_id[i])) r.ids.push_back(id);
+      continue;
+    }
     r.offsets.assign(1, 0);
     r.offsets.reserve(count + 1);
-    r.ids.reserve(t.entries());
     r.signs.reserve(t.entries());
-    if (renumbered) r.model_id = order[k];
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint32_t x = renumbered ? order[k][i] : static_cast<std::uint32_t>(i);
+      const std::uint32_t x = renumbered ? r.model_id[i] : static_cast<std::uint32_t>(i);
       for (auto id : t.ids(x)) r.ids.push_back(new_id[k - 1][id]);
       const auto sg = t.signs(x);
       r.signs.insert(r.signs.end(), sg.begin(), sg.end());
       r.offsets.push_back(static_cast<std::uint32_t>(r.ids.size()));
     }
+    std::vector<std::uint32_t>().swap(new_id[k - 1]);
   }
   // (No copy of the facet normals: a slice reads the complex's through ranks_[fr].model_id.)
+  const double* P = positions();
   // Cluster spheres: centre of the box of the cluster's vertices, farthest vertex from it.
   cluster_sphere_.resize(nc * (n + 1));
   for (std::size_t c = 0; c < nc; ++c) {
     double clo[kMaxDim], chi[kMaxDim];
     std::fill(clo, clo + n, std::numeric_limits<double>::infinity());
     std::fill(chi, chi + n, -std::numeric_limits<double>::infinity());
-    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i)
+    each_cluster_vertex(static_cast<std::uint32_t>(c), [&](std::uint32_t v) {
       for (int j = 0; j < n; ++j) {
-        const double x = positions_[cluster_vertices_[i] * n + j];
+        const double x = P[std::size_t{v} * n + j];
         clo[j] = std::min(clo[j], x);
         chi[j] = std::max(chi[j], x);
       }
+      return true;
+    });
     double* sphere = &cluster_sphere_[c * (n + 1)];
     for (int j = 0; j < n; ++j) sphere[j] = 0.5 * (clo[j] + chi[j]);
     double r2 = 0.0;
-    for (std::uint32_t i = cluster_vertex_[c]; i < cluster_vertex_[c + 1]; ++i) {
+    each_cluster_vertex(static_cast<std::uint32_t>(c), [&](std::uint32_t v) {
       double d2 = 0.0;
       for (int j = 0; j < n; ++j) {
-        const double d = positions_[cluster_vertices_[i] * n + j] - sphere[j];
+        const double d = P[std::size_t{v} * n + j] - sphere[j];
         d2 += d * d;
       }
       r2 = std::max(r2, d2);
-    }
+      return true;
+    });
     sphere[n] = std::sqrt(r2);
   }
   build_cofaces();
   find_single_solid();
   build_tet_tables();
+}
+
+void SliceModel::add_cluster(std::span<const std::uint32_t> vertices) {
+  std::uint32_t last = 0xffffffffu;
+  for (const std::uint32_t v : vertices) {
+    const std::uint32_t d = v - last;  // (>= 1; below 2^31: ids fit in kUpIndex)
+    last = v;
+    if (d < 0x8000u) {
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(d));
+    } else {
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(0x8000u | (d >> 16)));
+      cluster_vertices_.push_back(static_cast<std::uint16_t>(d & 0xffffu));
+    }
+  }
+  cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
 }
 
 void SliceModel::find_single_solid() {
@@ -262,37 +299,47 @@ void SliceModel::find_single_solid() {
 }
 
 void SliceModel::build_cofaces() {
-  // Edge lengths, for the weld test of each crossing (summed in the order crossing() used to).
+  // The range of the edges' lengths, for the weld test of each crossing (CrossingTest).
   {
     const Rank& E = ranks_[1];
-    const std::size_t ne = E.offsets.size() - 1;
-    edge_length_.resize(ne);
-    const double* P = positions_.data();
+    const std::size_t ne = E.count;
+    const double* P = positions();
+    double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
     for (std::size_t e = 0; e < ne; ++e) {
-      const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
-      double len2 = 0.0;
-      for (int j = 0; j < dim_; ++j) {
-        const double d = P[b * dim_ + j] - P[a * dim_ + j];
-        len2 += d * d;
-      }
-      edge_length_[e] = std::sqrt(len2);
+      const double len = edge_length(P, dim_, E.ids[2 * e], E.ids[2 * e + 1]);
+      if (len < lo) lo = len;  // (a NaN length changes neither: its tests are false anyway)
+      if (len > hi) hi = len;
     }
+    edge_min_ = lo;
+    edge_max_ = hi;
   }
   up_offsets_.assign(top_, {});
   up_ids_.assign(top_, {});
+  up_stride_.assign(top_, 0);
   for (int k = 1; k < top_; ++k) {
     const Rank& above = ranks_[k + 1];
-    const std::size_t count = ranks_[k].offsets.size() - 1;
+    const std::size_t count = ranks_[k].count;
     std::vector<std::uint32_t>& off = up_offsets_[k];
     off.assign(count + 1, 0);
     for (auto id : above.ids) ++off[id + 1];
+    // Every element with the same number of cofaces (a valid model's ridges: two facets each):
+    // the offsets are implied.
+    std::uint32_t stride = count > 0 ? off[1] : 0;
+    for (std::size_t i = 0; i < count && stride > 0; ++i)
+      if (off[i + 1] != stride) stride = 0;
     for (std::size_t i = 0; i < count; ++i) off[i + 1] += off[i];
-    std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
     up_ids_[k].resize(above.ids.size());
-    const std::size_t rows = above.offsets.size() - 1;
-    for (std::uint32_t x = 0; x < rows; ++x)
+    const std::size_t rows = above.count;
+    for (std::uint32_t x = 0; x < rows; ++x)  // (off[id] is the fill cursor of id's list)
       for (std::uint32_t i = above.offsets[x]; i < above.offsets[x + 1]; ++i)
-        up_ids_[k][fill[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
+        up_ids_[k][off[above.ids[i]]++] = x | (above.signs[i] < 0 ? kUpNegative : 0u);
+    if (stride > 0) {
+      up_stride_[k] = stride;
+      std::vector<std::uint32_t>().swap(off);
+    } else {
+      for (std::size_t i = count; i > 0; --i) off[i] = off[i - 1];  // (the cursors: ends)
+      off[0] = 0;
+    }
   }
   unit_signs_ = true;
   for (int k = 2; k <= std::min(top_, 3); ++k)
@@ -399,6 +446,16 @@ void SliceModel::build_tet_tables() {
   tet_cases_ = std::move(cases);
 }
 
+namespace {
+// The signs -1, +1 of an edge as one 16-bit word (in memory order).
+const std::uint16_t kEdgeSigns = [] {
+  const std::int8_t pair[2] = {-1, 1};
+  std::uint16_t w;
+  std::memcpy(&w, pair, 2);
+  return w;
+}();
+}  // namespace
+
 bool SliceModel::compiled_from(const Complex& c) const {
   if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
   const auto same = [](const auto* a, const auto* b, std::size_t count) {
@@ -407,7 +464,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
   const Eigen::MatrixXd& p = c.positions();
   const Eigen::MatrixXd& fn = c.facet_normals();
   if (!fast_) return false;  // (nothing compiled but the verdict)
-  if (!vertex_id_.empty() || static_cast<std::size_t>(p.size()) != positions_.size() ||
+  if (clustered_ || static_cast<std::size_t>(p.size()) != positions_.size() ||
       static_cast<std::size_t>(fn.size()) != facet_normals_.size() ||
       !same(p.data(), positions_.data(), positions_.size()) ||
       !same(fn.data(), facet_normals_.data(), facet_normals_.size()))
@@ -415,26 +472,39 @@ bool SliceModel::compiled_from(const Complex& c) const {
   for (int k = 1; k <= top_; ++k) {
     const Incidence& t = c.boundary(k);
     const Rank& r = ranks_[k];
-    if (!r.model_id.empty() || t.offsets().size() != r.offsets.size() ||
-        t.all_ids().size() != r.ids.size() ||
-        !same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
-        !same(t.all_ids().data(), r.ids.data(), r.ids.size()) ||
-        !same(t.all_signs().data(), r.signs.data(), r.signs.size()))
+    if (!r.model_id.empty() || t.size() != r.count || t.all_ids().size() != r.ids.size() ||
+        !same(t.all_ids().data(), r.ids.data(), r.ids.size()))
       return false;
+    if (k == 1) {  // still [tail, head] with signs [-1, +1] (branch-free passes)
+      const std::uint32_t* off = t.offsets().data();
+      const std::int8_t* sg = t.all_signs().data();
+      std::uint32_t bad = 0;
+      const std::size_t rows = r.count + 1;
+      for (std::size_t e = 0; e < rows; ++e) bad |= off[e] ^ static_cast<std::uint32_t>(2 * e);
+      for (std::size_t e = 0; e < r.count; ++e) {
+        std::uint16_t pair;  // the bytes -1, +1
+        std::memcpy(&pair, sg + 2 * e, 2);
+        bad |= pair ^ kEdgeSigns;
+      }
+      if (bad != 0) return false;
+    } else if (!same(t.offsets().data(), r.offsets.data(), r.offsets.size()) ||
+               !same(t.all_signs().data(), r.signs.data(), r.signs.size())) {
+      return false;
+    }
   }
   return true;
 }
 
 std::size_t SliceModel::bytes() const {
-  std::size_t b = solid_sign_.size() + (positions_.size() + edge_length_.size()) * sizeof(double) +
+  std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) +
                   tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
-                  facet_normals_.size() * sizeof(double) + vertex_id_.size() * 4 +
-                  cluster_vertex_.size() * 4 + cluster_vertices_.size() * 4 +
-                  cluster_sphere_.size() * sizeof(double);
+                  facet_normals_.size() * sizeof(double) + cluster_vertex_.size() * 4 +
+                  cluster_vertices_.size() * 2 + cluster_sphere_.size() * sizeof(double);
   for (const Rank& r : ranks_)
     b += (r.offsets.size() + r.ids.size() + r.model_id.size()) * 4 + r.signs.size();
   for (const auto& v : begin_) b += v.size() * 4;
   for (const auto& v : up_offsets_) b += v.size() * 4;
+  b += up_stride_.size() * 4;
   for (const auto& v : up_ids_) b += v.size() * 4;
   return b;
 }

@@ -198,11 +198,10 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
 }
 
 void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
-  const std::vector<std::uint32_t>& off = m.up_offsets_[k];
-  const std::vector<std::uint32_t>& ids = m.up_ids_[k];
+  const SliceModel::Up up = m.up(k);
   std::vector<std::uint64_t>& bits = mark_[k + 1];
-  for (std::uint32_t i = off[x]; i < off[x + 1]; ++i) {
-    const std::uint32_t y = ids[i] & SliceModel::kUpIndex;
+  for (std::uint32_t i = up.begin(x), end = up.end(x); i < end; ++i) {
+    const std::uint32_t y = up.ids[i] & SliceModel::kUpIndex;
     bits[y >> 6] |= std::uint64_t{1} << (y & 63);
   }
 }
@@ -222,7 +221,7 @@ void Slicer::clear_marks(const SliceModel& m) {
 
 void Slicer::prepare(const SliceModel& m) {
   const int top = m.top_;
-  const std::size_t nv = m.positions_.size() / m.dim_;
+  const std::size_t nv = m.nv_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
     for (auto& im : images_) std::fill(im.begin(), im.end(), Image{});
     gen_ = 1;
@@ -235,7 +234,7 @@ void Slicer::prepare(const SliceModel& m) {
   // generic gathering sizes the rest when it runs (size_images).
   const int from = m.dim_ == 4 && top >= 3 ? 3 : 1;
   for (int k = 1; k <= top; ++k) {
-    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    const std::size_t count = m.ranks_[k].count;
     if (k >= from && images_[k].size() < count) images_[k].resize(count);
     terms_[k].clear();
     if (mark_[k].size() < (count + 63) / 64) mark_[k].resize((count + 63) / 64, 0);
@@ -244,7 +243,7 @@ void Slicer::prepare(const SliceModel& m) {
 
 void Slicer::size_images(const SliceModel& m) {
   for (int k = 1; k <= m.top_; ++k) {
-    const std::size_t count = m.ranks_[k].offsets.size() - 1;
+    const std::size_t count = m.ranks_[k].count;
     if (images_[k].size() < count) images_[k].resize(count);
   }
 }
@@ -293,9 +292,8 @@ void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, Slic
 bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
-  const double len = m.edge_length_[e];
   *t_out = t;
-  return !needs_general(s_[a], s_[b], t, len, near_parallel_, m.weld_);
+  return !m.crossing_test(near_parallel_)(a, b, s_[a], s_[b], t);
 }
 
 bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
@@ -323,7 +321,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       touched_.push_back(static_cast<std::uint32_t>(c));
   // Signed values of the touched clusters' vertices (of all vertices, once each, when every
   // cluster is touched: the clusters' vertex lists share their border vertices).
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   auto value = [&](std::uint32_t v) {
     const double s = height(pl.nm, P + v * n, n) - pl.dm;
     const Side side = classify_side(s, pl.tol);
@@ -334,7 +332,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   if (touched_.size() == nc && n == 4) {
     // Every vertex (each belongs to a cluster): one pass without early exits, the same values
     // and sides as `value` gives.
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
     const double n0 = pl.nm[0], n1 = pl.nm[1], n2 = pl.nm[2], n3 = pl.nm[3], dm = pl.dm;
     const double tol = pl.tol;
     double* sv = s_.data();
@@ -402,13 +400,12 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     }
     if (on) return fail(FallbackReason::OnPlane);
   } else if (touched_.size() == nc && nc > 1) {
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / n);
+    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
     for (std::uint32_t v = 0; v < nv; ++v)
       if (!value(v)) return fail(FallbackReason::OnPlane);
   } else {
     for (auto c : touched_)
-      for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-        if (!value(m.cluster_vertices_[i])) return fail(FallbackReason::OnPlane);
+      if (!m.each_cluster_vertex(c, value)) return fail(FallbackReason::OnPlane);
   }
   if (kernel_ && n == 4 && m.top_ >= 3) {
     const int done = kernel_slice(m, pl, out);
@@ -613,8 +610,10 @@ void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& ou
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
   for (auto c : touched_)
-    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i)
-      out.cache_side_.push_back(side_[m.cluster_vertices_[i]]);
+    m.each_cluster_vertex(c, [&](std::uint32_t v) {
+      out.cache_side_.push_back(side_[v]);
+      return true;
+    });
   out.cache_edge_ = section_edge_;
   out.cache_facet_ = facet_internal_;
   out.cache_reflect_ = pl.reflect;
@@ -759,7 +758,7 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   const bool copied = !m.facet_normals_.empty() || m.ranks_[o].model_id.empty();
   const double* fn = copied ? m.facet_normals_.data() : m.model_->facet_normals().data();
   const std::uint32_t* fid = copied ? nullptr : m.ranks_[o].model_id.data();
-  if (!pass(m.positions_.data(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
+  if (!pass(m.positions(), m.ranks_[1].ids.data(), pl.M, pl.c, pl.N, fn, fid, section_edge,
             out.vertex_source.data(), facet_internal, out.coords.data(), out.facet_normals.data()))
     return fail(FallbackReason::NearParallel);
   return true;
@@ -770,7 +769,7 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
   if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
     return false;
   const int n = m.dim_;
-  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nv = m.nv_;
   const std::size_t nc = m.cluster_count();
   if (s_.size() < nv) s_.resize(nv), side_.resize(nv);
   touched_.clear();
@@ -779,16 +778,18 @@ bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions&
         pl.meets(&m.cluster_sphere_[c * (n + 1)], m.cluster_sphere_[c * (n + 1) + n]))
       touched_.push_back(static_cast<std::uint32_t>(c));
   if (touched_ != out.cache_touched_) return false;
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   std::size_t k = 0;
   for (auto c : touched_)
-    for (std::uint32_t i = m.cluster_vertex_[c]; i < m.cluster_vertex_[c + 1]; ++i, ++k) {
-      const std::uint32_t v = m.cluster_vertices_[i];
-      const double s = height(pl.nm, P + v * n, n) - pl.dm;
-      const Side side = classify_side(s, pl.tol);
-      if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k]) return false;
-      s_[v] = s;
-    }
+    if (!m.each_cluster_vertex(c, [&](std::uint32_t v) {
+          const double s = height(pl.nm, P + v * n, n) - pl.dm;
+          const Side side = classify_side(s, pl.tol);
+          if (side == Side::On || static_cast<std::int8_t>(side) != out.cache_side_[k++])
+            return false;
+          s_[v] = s;
+          return true;
+        }))
+      return false;
   // Same sides: the same connectivity. New crossing parameters, positions and normals.
   for (std::size_t i = 0; i < out.cache_edge_.size(); ++i)
     if (!crossing(m, out.cache_edge_[i], &out.vertex_source[i].t)) return false;

@@ -117,7 +117,42 @@ inline bool needs_general(double sa, double sb, double t, double len, double nea
   return std::abs(sa - sb) < near_parallel * len || t * len <= weld || (1.0 - t) * len <= weld;
 }
 
+// The length of the edge from vertex a to vertex b (n coordinates per vertex in P), summed in
+// a fixed order: the one length the weld and near-parallel tests use.
+inline double edge_length(const double* P, int n, std::uint32_t a, std::uint32_t b) {
+  double len2 = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double d = P[std::size_t{b} * n + j] - P[std::size_t{a} * n + j];
+    len2 += d * d;
+  }
+  return std::sqrt(len2);
+}
+
 }  // namespace slicer_detail
+
+// needs_general for crossings of the model's edges without a stored length per edge: the
+// model's shortest and longest edge decide almost every crossing (a rounded product is monotone
+// in its factors, so a test that fails for the longest edge fails for every shorter one, and
+// one that fails for the shortest fails for every longer one); only the rest compute the
+// edge's length from its ends, as the compile does, so the decision is the same bit for bit.
+struct SliceModel::CrossingTest {
+  const double* P;
+  int n;
+  double shortest, longest, weld, near_parallel;
+  bool operator()(std::uint32_t a, std::uint32_t b, double sa, double sb, double t) const {
+    if (!(std::abs(sa - sb) < near_parallel * longest) && !(t * shortest <= weld) &&
+        !((1.0 - t) * shortest <= weld))
+      return false;
+    return slicer_detail::needs_general(sa, sb, t, slicer_detail::edge_length(P, n, a, b),
+                                        near_parallel, weld);
+  }
+};
+
+inline SliceModel::CrossingTest SliceModel::crossing_test(double near_parallel) const {
+  return {positions(), dim_, edge_min_, edge_max_, weld_, near_parallel};
+}
+
+namespace slicer_detail {}  // namespace slicer_detail
 
 using namespace slicer_detail;  // (the slicer files only)
 

@@ -99,7 +99,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
     return;
   }
   const int n = m.dim_;
-  const std::size_t nv = m.positions_.size() / n;
+  const std::size_t nv = m.nv_;
   const std::size_t nc = m.cluster_count();
   Placement pl;
   pl.set(m, plane, &xf);
@@ -117,7 +117,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   const double* D = layer_d_.data();
   auto first_above = [&](double h) { return first_greater(D, static_cast<std::uint32_t>(L), h); };
   // Heights once per vertex. A vertex within a layer's ON band sends that layer to slice().
-  const double* P = m.positions_.data();
+  const double* P = m.positions();
   height_.resize(nv);
   layer_bad_.assign(L, 0);
   const bool events = n == 4 && m.top_ >= 3;
@@ -144,7 +144,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   // layer at or above hi (dropped before the layer is built), so each layer sees exactly its
   // crossing edges.
   const SliceModel::Rank& E = m.ranks_[1];
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   bucket_offsets_.assign(L + 2, 0);
   edge_top_.resize(ne);
   edge_start_.resize(ne);
@@ -340,8 +340,8 @@ void Slicer::sweep_incidences(const SliceModel& m) {
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
-  const std::size_t nv = m.positions_.size() / 4;
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::size_t nv = m.nv_;
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
   std::vector<std::uint32_t>& cursor = w.merged;
@@ -496,7 +496,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   // The sides of `moved` (of every vertex when rebuilding) are already those of the new layer.
   SweepState& w = sweep_;
   const SliceModel::Rank& E = m.ranks_[1];
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(m.ranks_[2].offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
@@ -650,7 +650,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     slice(m, Hyperplane{plane.normal, offsets[k]}, xf, out[k]);
     restore = true;
   };
-  if (!m.unit_signs_ || m.positions_.size() / 4 >= kSweepFlip) {
+  if (!m.unit_signs_ || m.nv_ >= kSweepFlip) {
     // Multiplicities: the generic gathering decides every layer (and vertex ids must leave
     // the top bit free for the face entries' sign).
     for (auto k : layers) single(k);
@@ -659,8 +659,8 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   const SliceModel::Rank& E = m.ranks_[1];
   const SliceModel::Rank& F = m.ranks_[2];
   const SliceModel::Rank& C = m.ranks_[3];
-  const std::uint32_t nv = static_cast<std::uint32_t>(m.positions_.size() / 4);
-  const std::uint32_t ne = static_cast<std::uint32_t>(E.offsets.size() - 1);
+  const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
+  const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(C.offsets.size() - 1);
   sweep_incidences(m);
@@ -688,8 +688,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
-  const double weld = m.weld_;
-  const double* edge_length = m.edge_length_.data();
+  const SliceModel::CrossingTest needs_general_at = m.crossing_test(near_parallel_);
   const std::uint32_t* edge_ends = E.ids.data();
   const std::uint32_t* edge_id = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();
@@ -766,40 +765,53 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       VertexSource* vs = o.vertex_source.data();
       const std::uint32_t* xe = w.edges.data();
       std::uint32_t* vertex_index = w.vertex_index.data();
-      const double near_parallel = near_parallel_;
-      // Two at a time: the same divisions and tests (needs_general), lane by lane.
+      // Two at a time: the same divisions as the kernel's, lane by lane; a pair that the model's
+      // shortest and longest edge cannot clear is decided exactly (needs_general_at).
       bool ok = true;
       std::uint32_t i = 0;
 #if defined(__SSE2__)
       {
-        const __m128d dd = _mm_set1_pd(d), np = _mm_set1_pd(near_parallel), wl = _mm_set1_pd(weld);
+        const __m128d dd = _mm_set1_pd(d);
+        const __m128d np_long =
+            _mm_set1_pd(needs_general_at.near_parallel * needs_general_at.longest);
+        const __m128d shortest = _mm_set1_pd(needs_general_at.shortest);
+        const __m128d wl = _mm_set1_pd(needs_general_at.weld);
         const __m128d one = _mm_set1_pd(1.0);
         const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
-        __m128d bad = _mm_setzero_pd();
         for (; i + 2 <= nx; i += 2) {
           const std::uint32_t e0 = xe[i], e1 = xe[i + 1];
-          const __m128d ha = _mm_set_pd(H[edge_ends[2 * e1]], H[edge_ends[2 * e0]]);
-          const __m128d hb = _mm_set_pd(H[edge_ends[2 * e1 + 1]], H[edge_ends[2 * e0 + 1]]);
+          const std::uint32_t a0 = edge_ends[2 * e0], b0 = edge_ends[2 * e0 + 1];
+          const std::uint32_t a1 = edge_ends[2 * e1], b1 = edge_ends[2 * e1 + 1];
+          const __m128d ha = _mm_set_pd(H[a1], H[a0]);
+          const __m128d hb = _mm_set_pd(H[b1], H[b0]);
           const __m128d sa = _mm_sub_pd(ha, dd), sb = _mm_sub_pd(hb, dd);
           const __m128d diff = _mm_sub_pd(sa, sb);
           const __m128d t = _mm_div_pd(sa, diff);
-          const __m128d len = _mm_set_pd(edge_length[e1], edge_length[e0]);
-          bad = _mm_or_pd(bad, _mm_cmplt_pd(_mm_and_pd(diff, magnitude), _mm_mul_pd(np, len)));
-          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(t, len), wl));
-          bad = _mm_or_pd(bad, _mm_cmple_pd(_mm_mul_pd(_mm_sub_pd(one, t), len), wl));
-          vs[i] = {edge_id ? edge_id[e0] : e0, 1, _mm_cvtsd_f64(t)};
-          vs[i + 1] = {edge_id ? edge_id[e1] : e1, 1, _mm_cvtsd_f64(_mm_unpackhi_pd(t, t))};
+          __m128d maybe = _mm_cmplt_pd(_mm_and_pd(diff, magnitude), np_long);
+          maybe = _mm_or_pd(maybe, _mm_cmple_pd(_mm_mul_pd(t, shortest), wl));
+          maybe = _mm_or_pd(maybe, _mm_cmple_pd(_mm_mul_pd(_mm_sub_pd(one, t), shortest), wl));
+          const double t0 = _mm_cvtsd_f64(t), t1 = _mm_cvtsd_f64(_mm_unpackhi_pd(t, t));
+          if (const int lanes = _mm_movemask_pd(maybe)) {
+            const double sa0 = _mm_cvtsd_f64(sa), sb0 = _mm_cvtsd_f64(sb);
+            const double sa1 = _mm_cvtsd_f64(_mm_unpackhi_pd(sa, sa));
+            const double sb1 = _mm_cvtsd_f64(_mm_unpackhi_pd(sb, sb));
+            ok = !((lanes & 1) && needs_general_at(a0, b0, sa0, sb0, t0)) &&
+                 !((lanes & 2) && needs_general_at(a1, b1, sa1, sb1, t1));
+            if (!ok) break;
+          }
+          vs[i] = {edge_id ? edge_id[e0] : e0, 1, t0};
+          vs[i + 1] = {edge_id ? edge_id[e1] : e1, 1, t1};
           vertex_index[e0] = i;
           vertex_index[e1] = i + 1;
         }
-        ok = _mm_movemask_pd(bad) == 0;
       }
 #endif
       for (; ok && i < nx; ++i) {
         const std::uint32_t e = xe[i];
-        const double sa = H[edge_ends[2 * e]] - d, sb = H[edge_ends[2 * e + 1]] - d;
+        const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
+        const double sa = H[a] - d, sb = H[b] - d;
         const double t = sa / (sa - sb);
-        ok = !needs_general(sa, sb, t, edge_length[e], near_parallel, weld);
+        ok = !needs_general_at(a, b, sa, sb, t);
         vs[i] = {edge_id ? edge_id[e] : e, 1, t};
         vertex_index[e] = i;
       }

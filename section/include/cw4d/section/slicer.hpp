@@ -63,10 +63,11 @@ struct SliceModelOptions {
 
 /// A complex compiled for slicing: its elements in flat compressed rows, renumbered cluster by
 /// cluster when it is big (clusters of spatially close facets with a bounding sphere each, so a
-/// plane skips the clusters it misses), the bounding sphere, the largest vertex norm and the
-/// weld distance. Immutable after construction and safe to share between threads. Keeps a
-/// reference to `model`, which must outlive it (the general path cuts the model itself, and a
-/// clustered model's slices read its facet normals); a
+/// plane skips the clusters it misses; vertices keep their ids), the bounding sphere, the
+/// largest vertex norm and the weld distance. Immutable after construction and safe to share
+/// between threads. Keeps a reference to `model`, which must outlive it unchanged (the general
+/// path cuts the model itself, and a clustered model's slices read its positions and facet
+/// normals); a
 /// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
@@ -90,6 +91,9 @@ class SliceModel {
  private:
   friend class Slicer;
   struct Rank {
+    std::size_t count = 0;  // elements
+    // Rank 1 (the edges, [tail, head] with signs [-1, +1] in a fast model) keeps only its ids:
+    // its offsets (2 i) and signs are implied, those vectors empty.
     std::vector<std::uint32_t> offsets, ids;
     std::vector<std::int8_t> signs;
     std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
@@ -99,13 +103,30 @@ class SliceModel {
   int dim_ = 0;
   int top_ = 0;
   bool fast_ = false;
-  std::vector<double> positions_;         // dim_ per internal vertex
-  std::vector<std::uint32_t> vertex_id_;  // internal vertex -> model vertex (empty: identity)
-  std::vector<Rank> ranks_;               // ranks_[k], k = 1..top_ (ranks_[0] unused)
+  // Vertices keep the model's ids. dim_ per vertex: a copy of the model's positions, or
+  // (clustered models) empty, the model's own read instead.
+  std::vector<double> positions_;
+  std::size_t nv_ = 0;
+  bool clustered_ = false;
+  const double* positions() const {
+    return positions_.empty() ? model_->positions().data() : positions_.data();
+  }
+  std::vector<Rank> ranks_;  // ranks_[k], k = 1..top_ (ranks_[0] unused)
   // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
   // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
   // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
+  // When every element of rank k has the same number of cofaces, up_stride_[k] (else 0), its
+  // offsets are implied and up_offsets_[k] is empty: read them through up(k).
   std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
+  std::vector<std::uint32_t> up_stride_;
+  struct Up {
+    const std::uint32_t* offsets;
+    const std::uint32_t* ids;
+    std::uint32_t stride;
+    std::uint32_t begin(std::uint32_t x) const { return stride ? x * stride : offsets[x]; }
+    std::uint32_t end(std::uint32_t x) const { return stride ? (x + 1) * stride : offsets[x + 1]; }
+  };
+  Up up(int k) const { return {up_offsets_[k].data(), up_ids_[k].data(), up_stride_[k]}; }
   static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
   bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
   void build_cofaces();
@@ -116,7 +137,12 @@ class SliceModel {
   // dim_ per internal facet; empty when clustered (the complex's are read through the facets'
   // model ids: renumbered models are never compared against the complex, see compiled_from).
   std::vector<double> facet_normals_;
-  std::vector<double> edge_length_;  // per internal edge
+  // The shortest and longest edge (slicer_detail::edge_length; NaN lengths left out): with them
+  // a crossing's weld and near-parallel tests (CrossingTest, src/slicer_detail.hpp) need the
+  // edge's own length only near the thresholds.
+  double edge_min_ = 0.0, edge_max_ = 0.0;
+  struct CrossingTest;
+  CrossingTest crossing_test(double near_parallel) const;
   // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
   // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
   // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
@@ -126,10 +152,29 @@ class SliceModel {
   std::vector<std::uint16_t> tet_cases_;
   void build_tet_tables();
   // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
-  // 1 <= k <= dim_-1 and needs the vertices cluster_vertices_[cluster_vertex_[c] ...]; ranks
-  // above the facets are always processed. One cluster (no reordering) for small models.
+  // 1 <= k <= dim_-1 and needs the vertices listed in cluster_vertices_[cluster_vertex_[c] ...
+  // cluster_vertex_[c + 1]); ranks above the facets are always processed. One cluster (no
+  // reordering) for small models. A cluster's list is its vertex ids in increasing order, each
+  // as its difference from the previous one (the first from -1) in one 16-bit word, or in two
+  // when it is 2^15 or more (the first with the top bit set, holding the high bits).
   std::vector<std::vector<std::uint32_t>> begin_;
-  std::vector<std::uint32_t> cluster_vertex_, cluster_vertices_;
+  std::vector<std::uint32_t> cluster_vertex_;
+  std::vector<std::uint16_t> cluster_vertices_;
+  void add_cluster(std::span<const std::uint32_t> vertices);  // (ascending)
+  // Calls f(v) for the vertices of cluster c in increasing order while it returns true; false
+  // when it stopped.
+  template <class F>
+  bool each_cluster_vertex(std::uint32_t c, F&& f) const {
+    const std::uint16_t* w = cluster_vertices_.data();
+    std::uint32_t v = 0xffffffffu;
+    for (std::uint32_t i = cluster_vertex_[c], end = cluster_vertex_[c + 1]; i < end;) {
+      std::uint32_t d = w[i++];
+      if (d & 0x8000u) d = (d & 0x7fffu) << 16 | w[i++];
+      v += d;
+      if (!f(v)) return false;
+    }
+    return true;
+  }
   std::vector<double> cluster_sphere_;  // (dim_ centre, radius) per cluster
   Eigen::VectorXd centre_;
   double radius_ = 0.0;
