@@ -149,18 +149,15 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   std::uint8_t* const cell_count = cell_mark_.data();
   std::uint32_t* const face_ends = face_ends_.data();
   // Cells that are not the tetrahedra of a table each collect their steps (one per cut face,
-  // written by the face) in a bucket at their boundary row's place, so that a cut cell reads
-  // only its cut faces' steps, not its whole row.
+  // written by the face) in a bucket, so that a cut cell reads only its cut faces' steps, not
+  // its whole row. A cell's first cut face places its bucket, with room for its whole row,
+  // after the last one placed: the buckets take the cut cells' rows, not the model's.
   const bool buckets = m.tet_vertices_.empty();
-  if (buckets) {
-    if (cell_steps_.size() < C.ids.size()) cell_steps_.resize(C.ids.size());
-    if (cell_fill_model_ != m.serial_) {  // each cell's next free place: its bucket's start
-      cell_fill_.assign(C.offsets.begin(), C.offsets.end() - 1);
-      cell_fill_model_ = m.serial_;
-    }
+  if (buckets && cell_fill_.size() < nc) {
+    cell_fill_.resize(nc);
+    cell_start_.resize(nc);
   }
   auto stop = [this](int result) {
-    cell_fill_model_ = 0;  // (the buckets' places are set again by the next slice)
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
@@ -247,7 +244,10 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const src = out.source[1].data();
     std::uint32_t* const face_edge = face_edge_.data();
     std::uint32_t* const fill = cell_fill_.data();
-    CellStep* const bucket = cell_steps_.data();
+    std::uint32_t* const start = cell_start_.data();
+    const std::uint32_t* const cell_row = C.offsets.data();
+    CellStep* bucket = cell_steps_.data();
+    std::size_t room = cell_steps_.size(), placed = 0;
     bool bad = false;
     for (std::uint32_t se = 0; se < nse; ++se) {
       const std::uint64_t item = faces[se];
@@ -266,11 +266,21 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         for (std::uint32_t j = j0; j < j1; ++j) {
           const std::uint32_t up = face_up_ids[j];
           const std::uint32_t y = up & kIndex;
+          const bool first = cell_count[y] == 0;  // (selects, not branches)
+          const std::uint32_t at = first ? static_cast<std::uint32_t>(placed) : fill[y];
+          start[y] = first ? at : start[y];
+          placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
+          if (placed > room) {  // (rare: the buckets keep their storage between slices)
+            cell_steps_.resize(std::max(2 * room, placed + 64));
+            room = cell_steps_.size();
+            bucket = cell_steps_.data();
+          }
           cell_count[y] = 1;
+          fill[y] = at + 1;
           // The step's sign is minus the face's sign in the cell: forward when that is -1.
           const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
           const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
-          bucket[fill[y]++] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
+          bucket[at] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
         }
       } else {
         for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
@@ -321,7 +331,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     const std::uint32_t* const solid_up_ids = solid_up.ids;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     const std::uint32_t* const cell_off = C.offsets.data();
-    std::uint32_t* const fill = cell_fill_.data();
+    const std::uint32_t* const fill = cell_fill_.data();
+    const std::uint32_t* const start = cell_start_.data();
     const CellStep* const bucket = cell_steps_.data();
     const std::uint32_t* const cell_faces = C.ids.data();
     const std::int8_t* const cell_signs = C.signs.data();
@@ -353,15 +364,13 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         added = code & 7u;
         ok = added != 7;
       } else if (nfaces <= 4) {
-        fill[x] = b;  // (its bucket is not read)
         ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
         const std::uint32_t st = stamp_;
-        const std::uint32_t ns = fill[x] - b;
-        fill[x] = b;
-        const CellStep* const cs = bucket + b;
+        const std::uint32_t ns = fill[x] - start[x];
+        const CellStep* const cs = bucket + start[x];
         std::uint32_t lo = 0xffffffffu;
         bool pinch = false;
         for (std::uint32_t k = 0; k < ns; ++k) {

@@ -434,15 +434,14 @@ class Slicer {
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
-  // Per model cell (not a table's tetrahedron) the steps its cut faces handed it, in
-  // cell_steps_ from the cell's boundary row's place up to cell_fill_ (which is that place
-  // between slices, for the model cell_fill_model_; 0: none).
+  // Per cut cell (not a table's tetrahedron) of the slice the steps its cut faces handed it,
+  // in cell_steps_ from cell_start_ up to cell_fill_ (placed by the cell's first cut face,
+  // with room for its whole row; valid while the cell is marked).
   struct CellStep {
     std::uint32_t tail, head, edge;
   };
   std::vector<CellStep> cell_steps_;
-  std::vector<std::uint32_t> cell_fill_;
-  std::uint64_t cell_fill_model_ = 0;
+  std::vector<std::uint32_t> cell_fill_, cell_start_;
   void
   forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
