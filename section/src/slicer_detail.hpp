@@ -152,8 +152,6 @@ inline SliceModel::CrossingTest SliceModel::crossing_test(double near_parallel) 
   return {positions(), dim_, edge_min_, edge_max_, weld_, near_parallel};
 }
 
-namespace slicer_detail {}  // namespace slicer_detail
-
 using namespace slicer_detail;  // (the slicer files only)
 
 // The plane moved into model space and the maps from model space to the section: computed
