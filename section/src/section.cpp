@@ -847,10 +847,6 @@ struct SectionScratch {
   }
 };
 
-}  // namespace
-
-namespace {
-
 // section() with the model placed by *xf, or unmoved (xf == nullptr: the slicer's identity
 // placement, which gives the identity transform's buffers bit for bit without building it).
 Section section_placed(const Complex& model, const Hyperplane& plane, const AffineTransform* xf) {
