@@ -103,19 +103,47 @@ struct SimplexWalker {
   }
 };
 
-// det of an n x n matrix; closed forms for n <= 4 (no allocation).
+// det of an n x n matrix: Eigen's closed forms for n <= 4 and its partial-pivoting LU at a
+// fixed size up to 8, on the stack; only larger ones allocate.
+template <int N>
+double det_fixed(const Eigen::MatrixXd& m) {
+  return Eigen::Matrix<double, N, N>(m).determinant();
+}
+
 double det(const Eigen::MatrixXd& m) {
   switch (m.rows()) {
     case 1:
       return m(0, 0);
     case 2:
-      return Eigen::Matrix2d(m).determinant();
+      return det_fixed<2>(m);
     case 3:
-      return Eigen::Matrix3d(m).determinant();
+      return det_fixed<3>(m);
     case 4:
-      return Eigen::Matrix4d(m).determinant();
+      return det_fixed<4>(m);
+    case 5:
+      return det_fixed<5>(m);
+    case 6:
+      return det_fixed<6>(m);
+    case 7:
+      return det_fixed<7>(m);
+    case 8:
+      return det_fixed<8>(m);
     default:
       return m.determinant();
+  }
+}
+
+// generalized_cross into x, with m an n x n work matrix (nothing allocated when both have
+// their sizes already).
+void generalized_cross_into(const Eigen::MatrixXd& u, Eigen::MatrixXd& m, Eigen::VectorXd& x) {
+  const Eigen::Index n = u.rows();
+  x.resize(n);
+  m.resize(n, n);
+  m.leftCols(n - 1) = u;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    m.col(n - 1).setZero();
+    m(j, n - 1) = 1.0;
+    x(j) = det(m);
   }
 }
 
@@ -134,15 +162,9 @@ void for_each_simplex(const Complex& complex, int rank, std::uint32_t i,
 }
 
 Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u) {
-  const Eigen::Index n = u.rows();
-  Eigen::VectorXd x(n);
-  Eigen::MatrixXd m(n, n);
-  m.leftCols(n - 1) = u;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    m.col(n - 1).setZero();
-    m(j, n - 1) = 1.0;
-    x(j) = det(m);
-  }
+  Eigen::MatrixXd m;
+  Eigen::VectorXd x;
+  generalized_cross_into(u, m, x);
   return x;
 }
 
@@ -159,11 +181,13 @@ Eigen::VectorXd facet_area_vector(const Complex& complex, std::uint32_t facet, d
   const int n = complex.ambient_dim();
   const int k = n - 1;
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd u(n, k);
+  Eigen::MatrixXd u(n, k), m(n, n);
+  Eigen::VectorXd x(n);
   const auto& p = complex.positions();
   for_each_simplex(complex, k, facet, [&](std::span<const std::uint32_t> v, int sign) {
     for (int j = 0; j < k; ++j) u.col(j) = scale * p.col(v[j + 1]) - scale * p.col(v[0]);
-    sum += static_cast<double>(sign) * generalized_cross(u);
+    generalized_cross_into(u, m, x);
+    sum += static_cast<double>(sign) * x;
   });
   const double parity = (k % 2 == 0) ? 1.0 : -1.0;
   return parity * sum / factorial(k);
