@@ -823,3 +823,49 @@ TEST_CASE("load_model accepts every listed built-in family", "[builtins][spec]")
   CHECK_FALSE(is_builtin_spec("cube"));
   CHECK_FALSE(builtin_list().empty());
 }
+
+TEST_CASE("every non-const call, copy and move gives a complex a revision never seen before",
+          "[complex]") {
+  Complex c = make_cube(3);
+  std::vector<std::uint64_t> seen{c.revision()};
+  const auto changed = [&](const Complex& x) {
+    const bool fresh = std::find(seen.begin(), seen.end(), x.revision()) == seen.end();
+    seen.push_back(x.revision());
+    return fresh;
+  };
+  // Reads keep it.
+  (void)c.positions();
+  (void)c.boundary(2);
+  (void)c.facet_normals();
+  (void)c.face_cycle(0);
+  CHECK(c.revision() == seen.back());
+  c.positions_mut();
+  CHECK(changed(c));
+  c.set_positions(c.positions());
+  CHECK(changed(c));
+  c.boundary_mut(2);
+  CHECK(changed(c));
+  c.flip(2, 0);
+  CHECK(changed(c));
+  c.add_edge(0, 1);
+  CHECK(changed(c));
+  c.set_facet_normals(Eigen::MatrixXd(3, 0));
+  CHECK(changed(c));
+  c.colors_mut(0);
+  CHECK(changed(c));
+  c.truncate(2);
+  CHECK(changed(c));
+  c.touch();
+  CHECK(changed(c));
+  Complex copy = c;
+  CHECK(changed(copy));
+  CHECK(c.revision() == seen[seen.size() - 2]);  // the source of a copy is unchanged
+  Complex moved = std::move(copy);
+  CHECK(changed(moved));
+  CHECK(changed(copy));  // NOLINT(bugprone-use-after-move): a moved-from complex has changed
+  copy = c;
+  CHECK(changed(copy));
+  copy = std::move(moved);
+  CHECK(changed(copy));
+  CHECK(changed(moved));  // NOLINT(bugprone-use-after-move)
+}

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -765,4 +766,56 @@ TEST_CASE("regression: planes tilted 1e-6 to 1e-16 rad from cells and vertex lay
   }
   CHECK(planes > 450);
   CHECK(snapped > 0);
+}
+
+// section() keeps compiled models per thread, keyed on the complex's address and revision():
+// every change between two calls must show in the second (oracle: the volumes of the cube's
+// and the 16-cell's sections in closed form).
+TEST_CASE("section() sees every change made to a complex between calls", "[section][cache]") {
+  const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 0.25);
+  const auto volume = [&](const Complex& c) {
+    const Section s = section(c, plane);
+    return s.empty() ? 0.0 : signed_volume(s.complex);
+  };
+  // [-s, s]^4 cut at w = 0.25 (|0.25| < s) is [-s, s]^3; the 16-cell |x|_1 <= 1 cut there is
+  // the octahedron of radius 0.75, of volume 4/3 0.75^3.
+  const double octahedron = 4.0 / 3.0 * 0.75 * 0.75 * 0.75;
+
+  Complex c = make_cube(4);
+  CHECK(volume(c) == Approx(8.0));
+  c.positions_mut() *= 2.0;
+  CHECK(volume(c) == Approx(64.0));
+  {
+    Eigen::MatrixXd& kept = c.positions_mut();
+    CHECK(volume(c) == Approx(64.0));
+    kept *= 0.5;  // written after the call: seen once touched
+    c.touch();
+    CHECK(volume(c) == Approx(8.0));
+  }
+  Eigen::MatrixXd shifted = c.positions();
+  shifted.row(3).array() += 1.5;  // the plane now misses [-1, 1]^3 x [0.5, 2.5]
+  c.set_positions(shifted);
+  CHECK(volume(c) == 0.0);
+  shifted.row(3).array() -= 1.5;
+  c.set_positions(shifted);  // the same arrays as a state seen before
+  CHECK(volume(c) == Approx(8.0));
+
+  // A cell flipped and flipped back (two new revisions, the first state's arrays).
+  c.flip(3, 0);
+  c.flip(3, 0);
+  CHECK(volume(c) == Approx(8.0));
+
+  // Assignment, and another complex built at the same address.
+  c = make_orthoplex(4);
+  CHECK(volume(c) == Approx(octahedron));
+  c = make_cube(4);
+  CHECK(volume(c) == Approx(8.0));
+  std::optional<Complex> slot;
+  slot.emplace(make_orthoplex(4));
+  const Complex* address = &*slot;
+  CHECK(volume(*slot) == Approx(octahedron));
+  slot.reset();
+  slot.emplace(make_cube(4));
+  REQUIRE(&*slot == address);
+  CHECK(volume(*slot) == Approx(8.0));
 }

@@ -1,6 +1,7 @@
 #include "cw4d/complex/complex.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <functional>
 #include <stdexcept>
@@ -40,6 +41,11 @@ void Incidence::clear() {
   signs_.clear();
 }
 
+std::uint64_t Revision::next() noexcept {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
 Complex::Complex(int ambient_dim) : dim_(ambient_dim), positions_(ambient_dim, 0) {
   if (ambient_dim < 1) throw std::invalid_argument("cw4d::Complex: ambient_dim must be >= 1");
   colors_.resize(1);
@@ -61,16 +67,19 @@ std::vector<std::size_t> Complex::fvector() const {
 void Complex::set_positions(Eigen::MatrixXd positions) {
   if (positions.rows() != dim_)
     throw std::invalid_argument("cw4d::Complex::set_positions: wrong number of rows");
+  touch();
   positions_ = std::move(positions);
 }
 
 Incidence& Complex::boundary_mut(int rank) {
   if (rank < 1) throw std::invalid_argument("cw4d::Complex::boundary_mut: rank must be >= 1");
+  touch();
   if (static_cast<int>(boundaries_.size()) < rank) boundaries_.resize(rank);
   return boundaries_[rank - 1];
 }
 
 void Complex::truncate(int max_rank) {
+  touch();
   if (max_rank < static_cast<int>(boundaries_.size())) boundaries_.resize(std::max(0, max_rank));
 }
 
@@ -174,6 +183,7 @@ const std::vector<Rgba>& Complex::colors(int rank) const {
 
 std::vector<Rgba>& Complex::colors_mut(int rank) {
   if (rank < 0) throw std::invalid_argument("cw4d::Complex::colors_mut: negative rank");
+  touch();
   if (static_cast<int>(colors_.size()) <= rank) colors_.resize(rank + 1);
   return colors_[rank];
 }

@@ -822,13 +822,18 @@ bool convex_certificate(const Complex& c) {
   return true;
 }
 
-// Per thread: the last models compiled for section() (each checked against the complex's
-// current arrays before use, so a complex changed in place or a new one at the same address is
-// compiled afresh), one Slicer and one SliceBuffers, so repeated calls allocate only the
-// Section they return.
+// Per thread: the last models compiled for section(), each with the address and revision() of
+// the complex it was compiled from. A complex at that address with that revision is the same
+// state (revisions are unique in the process and change with every non-const call), so it is
+// used without reading the complex; another revision is compared in full (compiled_from), so
+// a complex changed back, or a new one with the same arrays, still reuses its model. One
+// Slicer and one SliceBuffers serve every call, so repeated calls allocate only the Section
+// they return.
 struct SectionScratch {
   static constexpr std::size_t kModels = 4;
   std::unique_ptr<SliceModel> models[kModels];
+  const Complex* source[kModels] = {};
+  std::uint64_t revision[kModels] = {};
   std::size_t next = 0;
   Slicer slicer;
   SliceBuffers buffers;
@@ -838,10 +843,19 @@ struct SectionScratch {
   // The compiled model and whether the complex is convex (convex_certificate).
   std::pair<const SliceModel*, bool> compiled(const Complex& model) {
     for (std::size_t i = 0; i < kModels; ++i)
-      if (models[i] && models[i]->compiled_from(model)) return {models[i].get(), convex[i]};
+      if (models[i] && source[i] == &model && revision[i] == model.revision())
+        return {models[i].get(), convex[i]};
+    for (std::size_t i = 0; i < kModels; ++i) {
+      if (models[i] && models[i]->compiled_from(model)) {
+        revision[i] = model.revision();
+        return {models[i].get(), convex[i]};
+      }
+    }
     const std::size_t i = next;
     next = (next + 1) % kModels;
     models[i] = std::make_unique<SliceModel>(model, SliceModelOptions::unclustered());
+    source[i] = &model;
+    revision[i] = model.revision();
     convex[i] = models[i]->fast() && convex_certificate(model);
     return {models[i].get(), convex[i]};
   }

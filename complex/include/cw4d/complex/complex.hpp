@@ -91,6 +91,33 @@ struct Rgba {
   friend bool operator==(const Rgba&, const Rgba&) = default;
 };
 
+/// A stamp that names one state of a Complex: drawn from one process-wide counter, so that no
+/// two states of any complexes in the process share a stamp. Copies and moves take fresh stamps
+/// (a moved-from object has changed too).
+class Revision {
+ public:
+  Revision() : value_(next()) {}
+  Revision(const Revision&) : value_(next()) {}
+  Revision(Revision&& other) noexcept : value_(next()) { other.value_ = next(); }
+  Revision& operator=(const Revision&) {
+    value_ = next();
+    return *this;
+  }
+  Revision& operator=(Revision&& other) noexcept {
+    value_ = next();
+    other.value_ = next();
+    return *this;
+  }
+  ~Revision() = default;
+
+  std::uint64_t value() const { return value_; }
+  void bump() { value_ = next(); }
+
+ private:
+  static std::uint64_t next() noexcept;
+  std::uint64_t value_;
+};
+
 class Complex {
  public:
   /// An empty complex whose vertices live in R^ambient_dim (ambient_dim >= 1).
@@ -105,6 +132,16 @@ class Complex {
   std::vector<std::size_t> fvector() const;
   bool empty() const { return count(0) == 0; }
 
+  /// A stamp of the complex's current state, unique in the process: every non-const member
+  /// (the *_mut() accessors, set_*, add_edge, flip, truncate, assignment) and every copy or move
+  /// takes a new one. Caches keyed on (address, revision), as section()'s compiled models, see
+  /// a change only through these calls: a reference returned by a *_mut() accessor marks the
+  /// complex changed when it is taken, so writes through a reference kept past a later read by
+  /// such a cache are not seen. Take the accessor again, or call touch(), after such writes.
+  std::uint64_t revision() const { return revision_.value(); }
+  /// Marks the complex changed (a new revision()), for writes through a kept reference.
+  void touch() { revision_.bump(); }
+
   /// Rank of the facets, ambient_dim - 1.
   int facet_rank() const { return dim_ - 1; }
   /// True when the rank-ambient_dim element (the solid) is stored.
@@ -113,7 +150,10 @@ class Complex {
   // --- vertices -------------------------------------------------------------------------
   /// ambient_dim x V, column i is vertex i.
   const Eigen::MatrixXd& positions() const { return positions_; }
-  Eigen::MatrixXd& positions_mut() { return positions_; }
+  Eigen::MatrixXd& positions_mut() {
+    touch();
+    return positions_;
+  }
   auto position(std::uint32_t v) const { return positions_.col(v); }
   /// Replaces all vertex positions (rows must equal ambient_dim).
   void set_positions(Eigen::MatrixXd positions);
@@ -150,7 +190,10 @@ class Complex {
   /// Outward unit normals of the facets, ambient_dim x count(facet_rank()); empty (0 columns)
   /// when not computed.
   const Eigen::MatrixXd& facet_normals() const { return facet_normals_; }
-  void set_facet_normals(Eigen::MatrixXd normals) { facet_normals_ = std::move(normals); }
+  void set_facet_normals(Eigen::MatrixXd normals) {
+    touch();
+    facet_normals_ = std::move(normals);
+  }
   bool has_facet_normals() const {
     return facet_normals_.cols() > 0 &&
            static_cast<std::size_t>(facet_normals_.cols()) == count(facet_rank());
@@ -172,6 +215,7 @@ class Complex {
   std::vector<Incidence> boundaries_;  // boundaries_[k-1] = table of rank k
   Eigen::MatrixXd facet_normals_;
   std::vector<std::vector<Rgba>> colors_;  // colors_[k] = colors of rank k
+  Revision revision_;
 };
 
 }  // namespace cw4d

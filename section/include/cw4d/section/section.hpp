@@ -51,6 +51,8 @@ struct Section {
 /// an empty section: on-plane vertices count as lying on the positive side (the limit of the
 /// plane moved by -epsilon along n); when that leaves nothing, as on the negative side, so a
 /// plane containing a facet returns that facet as a solid. Coincident pieces cancel as chains.
+/// The model is compiled once per thread and state (Complex::revision()): after writing through
+/// a reference kept from a *_mut() accessor, call model.touch() before the next section().
 /// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
 Section section(const Complex& model, const Hyperplane& plane,
                 const AffineTransform& model_to_world);
