@@ -38,7 +38,13 @@ Hyperplane Hyperplane::from(const Eigen::VectorXd& n, double d) {
   return Hyperplane{m / m.norm(), d};
 }
 
-void hyperplane_basis(const double* nrm, int n, double* basis) {
+namespace {
+
+// D > 0: the dimension fixed at compile time (the loops unroll; the same operations in the same
+// order as for D = 0, so the same bits).
+template <int D>
+void basis_of(const double* nrm, int dim, double* basis) {
+  const int n = D > 0 ? D : dim;
   int j = 0;
   for (int i = 1; i < n; ++i)
     if (std::abs(nrm[i]) >= std::abs(nrm[j])) j = i;
@@ -68,6 +74,17 @@ void hyperplane_basis(const double* nrm, int n, double* basis) {
   const bool odd = (n - 1 - j) % 2 == 1;
   if (n >= 2 && (sgn < 0.0) != odd)
     for (int r = 0; r < n; ++r) basis[r] = -basis[r];
+}
+
+}  // namespace
+
+void hyperplane_basis(const double* nrm, int n, double* basis) {
+  if (n == 4)
+    basis_of<4>(nrm, n, basis);
+  else if (n == 3)
+    basis_of<3>(nrm, n, basis);
+  else
+    basis_of<0>(nrm, n, basis);
 }
 
 Eigen::MatrixXd hyperplane_basis(const Eigen::VectorXd& nrm) {

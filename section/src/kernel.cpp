@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,9 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/fork_join.hpp"
@@ -25,32 +29,128 @@ namespace cw4d {
 
 namespace {
 
-// Lists every nonzero byte counts[x] of [b, e) as (x << 8) | counts[x] in increasing x, zeroing
-// those bytes (eight at a time); returns the new end of the list (the entry at the end may be
-// written: the list needs room for one more). The work on the listed
-// elements is then a plain loop whose pointers and counters stay in registers (its byte stores
-// would otherwise make the compiler reload everything a visiting callback captures).
-inline std::uint64_t* list_counts(std::uint8_t* counts, std::uint32_t b, std::uint32_t e,
-                                  std::uint64_t* list) {
+// For each byte value m, the places of its set bits in increasing order, and their number.
+struct ByteLists {
+  std::uint8_t pos[256][8];
+  std::uint8_t count[256];
+};
+
+constexpr ByteLists make_byte_lists() {
+  ByteLists t{};
+  for (int m = 0; m < 256; ++m) {
+    int k = 0;
+    for (int i = 0; i < 8; ++i)
+      if ((m >> i) & 1) t.pos[m][k++] = static_cast<std::uint8_t>(i);
+    t.count[m] = static_cast<std::uint8_t>(k);
+  }
+  return t;
+}
+
+constexpr ByteLists kByteLists = make_byte_lists();
+
+// For each 4-bit value m, four signs as bytes in memory order: -1 where bit i of m is set.
+constexpr std::array<std::array<std::int8_t, 4>, 16> make_sign_bytes() {
+  std::array<std::array<std::int8_t, 4>, 16> t{};
+  for (int m = 0; m < 16; ++m)
+    for (int i = 0; i < 4; ++i) t[m][i] = static_cast<std::int8_t>((m >> i) & 1 ? -1 : 1);
+  return t;
+}
+
+constexpr std::array<std::array<std::int8_t, 4>, 16> kSignBytes = make_sign_bytes();
+
+// Lists every x of [b, e) whose mark (a count of 0 to 3) is nonzero, in increasing x, zeroing
+// the marks eight at a time; returns the new end of the list, and sets odd's low bits when a
+// listed count is odd (1 or 3). Up to 8 entries past the new end may be written. A word of
+// eight marks writes its eight places at once and advances past the nonzero ones (a table of
+// byte values): no branch per mark (whether a face or cell is cut is unpredictable), and the
+// work on the listed elements is then a plain loop over ids.
+inline std::uint32_t* list_marks(std::uint8_t* marks, std::uint32_t b, std::uint32_t e,
+                                 std::uint32_t* list, std::uint64_t& odd) {
+  constexpr std::uint64_t kLow = 0x0101010101010101u;
   std::uint32_t x = b;
   for (; x < e && (x & 7u); ++x)
-    if (counts[x]) *list++ = (std::uint64_t{x} << 8) | counts[x], counts[x] = 0;
+    if (marks[x]) odd |= marks[x] & 1u, *list++ = x, marks[x] = 0;
   for (; x + 8 <= e; x += 8) {
     std::uint64_t w;
-    std::memcpy(&w, counts + x, 8);
+    std::memcpy(&w, marks + x, 8);
     if (!w) continue;
-    std::memset(counts + x, 0, 8);
-    // Every byte of the word written, the list advanced past the nonzero ones: no branch per
-    // byte (whether a face or cell is cut is unpredictable).
-    for (std::uint32_t i = 0; i < 8; ++i) {
-      const std::uint64_t byte = (w >> (8 * i)) & 0xffu;
-      *list = (std::uint64_t{x + i} << 8) | byte;
-      list += byte != 0;
-    }
+    std::memset(marks + x, 0, 8);
+    odd |= w & kLow;
+    // One bit per nonzero mark (bit 1 of a count folded onto bit 0), gathered into a byte.
+    const std::uint64_t nz = (w | (w >> 1)) & kLow;
+    const unsigned mask = static_cast<unsigned>((nz * 0x0102040810204080u) >> 56);
+    const std::uint8_t* const pos = kByteLists.pos[mask];
+#if defined(__SSE2__)
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i p16 =
+        _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pos)), zero);
+    const __m128i base = _mm_set1_epi32(static_cast<int>(x));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(list),
+                     _mm_add_epi32(_mm_unpacklo_epi16(p16, zero), base));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(list + 4),
+                     _mm_add_epi32(_mm_unpackhi_epi16(p16, zero), base));
+#else
+    for (int i = 0; i < 8; ++i) list[i] = x + pos[i];
+#endif
+    list += kByteLists.count[mask];
   }
   for (; x < e; ++x)
-    if (counts[x]) *list++ = (std::uint64_t{x} << 8) | counts[x], counts[x] = 0;
+    if (marks[x]) odd |= marks[x] & 1u, *list++ = x, marks[x] = 0;
   return list;
+}
+
+// Lists the edges e0 <= e < e1 whose ends have different sides from list[count] on; returns the
+// new count. Every edge is written and the count advanced past the crossing ones: no branch
+// (which edges cross is unpredictable).
+inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const std::int8_t* side,
+                                    std::uint32_t e0, std::uint32_t e1, std::uint32_t* list,
+                                    std::uint32_t count) {
+  const std::uint32_t* ends = edge_ends + 2 * std::size_t{e0};
+  for (std::uint32_t e = e0; e < e1; ++e, ends += 2) {
+    list[count] = e;
+    count += side[ends[0]] != side[ends[1]];
+  }
+  return count;
+}
+
+// Rank 1 of the kernel: the crossing of each listed edge (its section vertex v, in list order),
+// handed to the faces above it with its coefficient in the face's cut (the top bit: +1); the
+// faces' counts (face_count, up to 3) and their two crossings (face_ends). False when a
+// crossing needs the general path (near_general: near an end or nearly parallel to the plane).
+// Everything in locals: the byte stores of the counts would otherwise make the compiler reload
+// every pointer kept in memory.
+template <class CrossingTest>
+bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::uint32_t* edge_ends,
+                    const std::int8_t* side, const double* s, const CrossingTest& near_general,
+                    const std::uint32_t* edge_model, VertexSource* vs, std::uint32_t* vertex_edge,
+                    const std::uint32_t* up_offsets, const std::uint32_t* up_ids,
+                    std::uint32_t stride, std::uint8_t* face_count, std::uint32_t* face_ends,
+                    std::uint32_t* pairs_out) {
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  std::uint32_t pairs = 0;
+  for (std::uint32_t v = 0; v < count; ++v) {
+    const std::uint32_t e = list[v];
+    const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
+    const double t = s[a] / (s[a] - s[b]);
+    if (near_general(a, b, s[a], s[b], t)) return false;  // as crossing()
+    vs[v] = {edge_model ? edge_model[e] : e, 1, t};
+    vertex_edge[v] = e;
+    // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
+    // cut that times the edge's sign there (the coface's top bit: -1).
+    const std::uint32_t tail_above = side[a] < 0 ? 0u : kFlip;
+    const std::uint32_t j0 = stride ? e * stride : up_offsets[e];
+    const std::uint32_t j1 = stride ? j0 + stride : up_offsets[e + 1];
+    for (std::uint32_t j = j0; j < j1; ++j) {
+      const std::uint32_t up = up_ids[j];
+      const std::uint32_t f = up & kIndex;
+      const std::uint32_t k = face_count[f];
+      face_ends[2 * f + (k & 1u)] = v | ((up & kFlip) ^ tail_above);  // (k >= 2: fails below)
+      face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+    }
+    pairs += j1 - j0;
+  }
+  *pairs_out = pairs;
+  return true;
 }
 
 // The polygon of a cut cell of at most W faces (faces[i] with sign signs[i] in the cell), in
@@ -115,6 +215,112 @@ inline bool chain_fixed(const std::uint32_t* faces, const std::int8_t* signs, st
 }
 }  // namespace
 
+// Rank 2 of the kernel: a face handed two crossings of opposite coefficients gives the section
+// edge from the one with -1 to the one with +1; it keeps that edge's id for its cells and marks
+// them, and (Buckets) hands each cell its step in the cell's bucket. Everything the loop reads
+// and writes is in locals: the byte stores of the marks would otherwise make the compiler
+// reload every pointer kept in memory.
+struct Slicer::FaceHand {
+  const std::uint32_t* faces;  // the cut faces, in increasing id
+  std::uint32_t nse;
+  const std::uint32_t* face_ends;  // per face its two crossings | coefficient bit
+  std::uint32_t* edge_row;         // out: the section edges' ends
+  std::uint32_t* src;              // out: their sources
+  const std::uint32_t* face_model;
+  std::uint32_t* face_edge;  // per face its section edge
+  const std::uint32_t* up_offsets;
+  const std::uint32_t* up_ids;
+  std::uint32_t up_stride;
+  std::uint8_t* cell_count;  // per cell its mark
+  std::uint32_t* fill;       // per cell its bucket's next free step
+  std::uint32_t* start;      // per cell its bucket's first step
+  const std::uint32_t* cell_row;
+  CellStep* bucket;
+  std::size_t room;
+  std::size_t placed = 0;   // steps placed in the buckets
+  std::size_t want = 0;     // (when a face did not fit) the steps it needs placed
+  std::uint32_t pairs = 0;  // (cut face, cell) pairs
+  bool bad = false;
+};
+
+template <bool Buckets, std::uint32_t Stride>
+std::uint32_t Slicer::hand_faces(FaceHand& h, std::uint32_t se) {
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  const std::uint32_t* const faces = h.faces;
+  const std::uint32_t nse = h.nse;
+  const std::uint32_t* const face_ends = h.face_ends;
+  std::uint32_t* const edge_row = h.edge_row;
+  std::uint32_t* const src = h.src;
+  const std::uint32_t* const face_model = h.face_model;
+  std::uint32_t* const face_edge = h.face_edge;
+  const std::uint32_t* const up_offsets = h.up_offsets;
+  const std::uint32_t* const up_ids = h.up_ids;
+  const std::uint32_t stride = h.up_stride;
+  std::uint8_t* const cell_count = h.cell_count;
+  std::uint32_t* const fill = h.fill;
+  std::uint32_t* const start = h.start;
+  const std::uint32_t* const cell_row = h.cell_row;
+  CellStep* const bucket = h.bucket;
+  const std::size_t room = h.room;
+  std::size_t placed = h.placed;
+  std::uint32_t pairs = h.pairs;
+  bool bad = h.bad;
+  for (; se < nse; ++se) {
+    const std::uint32_t x = faces[se];
+    std::uint32_t j0, j1;
+    if constexpr (Stride > 0) {
+      j0 = x * Stride, j1 = j0 + Stride;
+    } else {
+      j0 = stride ? x * stride : up_offsets[x];
+      j1 = stride ? j0 + stride : up_offsets[x + 1];
+    }
+    if constexpr (Buckets) {
+      // Room for the rows of the cells this face is the first cut face of (counted before
+      // anything is written, so that a face that does not fit is done whole after the growth).
+      std::size_t need = 0;
+      for (std::uint32_t j = j0; j < j1; ++j) {
+        const std::uint32_t y = up_ids[j] & kIndex;
+        need += cell_count[y] == 0 ? cell_row[y + 1] - cell_row[y] : 0u;
+      }
+      if (placed + need > room) {
+        h.want = placed + need;
+        break;
+      }
+    }
+    const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
+    // Two crossings (no more, no fewer: an even count below 4), distinct, of opposite
+    // coefficients.
+    bad |= ((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0;
+    const std::uint32_t tail = p ^ ((p ^ q) & (0u - (p >> 31)));  // (p's flip: q is the tail)
+    const std::uint32_t ta = tail & kIndex, hd = (p ^ q ^ tail) & kIndex;
+    edge_row[2 * se] = ta;
+    edge_row[2 * se + 1] = hd;
+    src[se] = face_model ? face_model[x] : x;
+    face_edge[x] = se;
+    for (std::uint32_t j = j0; j < j1; ++j) {
+      const std::uint32_t up = up_ids[j];
+      const std::uint32_t y = up & kIndex;
+      if constexpr (Buckets) {
+        const bool first = cell_count[y] == 0;  // (selects, not branches)
+        const std::uint32_t at = first ? static_cast<std::uint32_t>(placed) : fill[y];
+        start[y] = first ? at : start[y];
+        placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
+        fill[y] = at + 1;
+        // The step's sign is minus the face's sign in the cell: forward when that is -1.
+        const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
+        const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
+        bucket[at] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
+      }
+      cell_count[y] = 1;
+    }
+    pairs += j1 - j0;
+  }
+  h.placed = placed;
+  h.pairs = pairs;
+  h.bad = bad;
+  return se;
+}
+
 int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                          bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
@@ -123,7 +329,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // No face gathers its crossings by reading its boundary: each crossing edge hands its section
   // vertex to the faces above it (coface lists carrying the edge's sign in the face), and a face
   // reads its two from one place. Each cut face keeps its section edge's id (face_edge_, reset
-  // after the slice) and marks the cells above it; a cut cell reads its own faces' ids (a
+  // after the slice, or before the next one that is not of tetrahedra: a table reads only cut
+  // faces' ids) and marks the cells above it; a cut cell reads its own faces' ids (a
   // tetrahedron only those its table names). The per-element counts double as the marks of the
   // faces and cells to visit (zero between slices: cleared when listed, or wholly when the
   // kernel stops half way).
@@ -145,6 +352,13 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   if (cell_mark_.size() < nc) cell_mark_.resize(nc, 0);
   if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
   if (face_edge_.size() < nf) face_edge_.resize(nf, no_index);
+  const bool tets = !m.tet_vertices_.empty();
+  if (!tets && face_edge_stale_) {
+    // A tetrahedral model's slice left its cut faces' section edges: only a table reads them
+    // (at cut faces only), the fixed-width chains read every face's.
+    std::fill(face_edge_.begin(), face_edge_.end(), no_index);
+    face_edge_stale_ = false;
+  }
   std::uint8_t* const face_count = face_mark_.data();
   std::uint8_t* const cell_count = cell_mark_.data();
   std::uint32_t* const face_ends = face_ends_.data();
@@ -161,6 +375,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
+    face_edge_stale_ = false;
     return result;
   };
   const SliceModel::Up edge_up = m.up(1), face_up = m.up(2);
@@ -182,10 +397,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         return true;
       });
     } else {
-      for (std::uint32_t e = e0; e < e1; ++e) {
-        list[count] = e;
-        count += side[edge_ends[2 * e]] != side[edge_ends[2 * e + 1]];
-      }
+      count = list_crossings(edge_ends, side, e0, e1, list, count);
     }
   }
   if (count == 0) {
@@ -197,41 +409,21 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   out.vertex_source.resize(count);
   section_edge_.resize(count);
   std::uint32_t cut_faces_bound = 0;
-  {
-    VertexSource* const vs = out.vertex_source.data();
-    std::uint32_t* const vertex_edge = section_edge_.data();
-    for (std::uint32_t v = 0; v < count; ++v) {
-      const std::uint32_t e = list[v];
-      const std::uint32_t a = edge_ends[2 * e], b = edge_ends[2 * e + 1];
-      const double t = s[a] / (s[a] - s[b]);
-      if (needs_general(a, b, s[a], s[b], t)) {  // as crossing()
-        reason_ = FallbackReason::Weld;
-        return stop(0);
-      }
-      vs[v] = {edge_model ? edge_model[e] : e, 1, t};
-      vertex_edge[v] = e;
-      // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
-      // cut that times the edge's sign there (the coface's top bit: -1).
-      const std::uint32_t tail_above = side[a] < 0 ? 0u : kFlip;
-      const std::uint32_t j0 = edge_up.begin(e), j1 = edge_up.end(e);
-      for (std::uint32_t j = j0; j < j1; ++j) {
-        const std::uint32_t up = edge_up_ids[j];
-        const std::uint32_t f = up & kIndex;
-        const std::uint32_t k = face_count[f];
-        face_ends[2 * f + (k & 1u)] = v | ((up & kFlip) ^ tail_above);  // (k >= 2: fails below)
-        face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
-      }
-      cut_faces_bound += j1 - j0;
-    }
+  if (!hand_crossings(list, count, edge_ends, side, s, needs_general, edge_model,
+                      out.vertex_source.data(), section_edge_.data(), edge_up.offsets, edge_up_ids,
+                      edge_up.stride, face_count, face_ends, &cut_faces_bound)) {
+    reason_ = FallbackReason::Weld;
+    return stop(0);
   }
   // Rank 2: a face handed two crossings of opposite coefficients gives the section edge from
   // the one with -1 to the one with +1; it keeps that edge's id for its cells and marks them.
-  // (list_counts may write one entry past the listed ones)
-  if (face_list_.size() < cut_faces_bound + 1) face_list_.resize(cut_faces_bound + 1);
-  std::uint64_t* const faces = face_list_.data();
-  std::uint64_t* faces_end = faces;
+  // (list_marks may write 8 entries past the listed ones)
+  if (face_list_.size() < cut_faces_bound + 8) face_list_.resize(cut_faces_bound + 8);
+  std::uint32_t* const faces = face_list_.data();
+  std::uint32_t* faces_end = faces;
+  std::uint64_t odd_count = 0;  // a face handed one crossing or more than two
   for (auto c : touched_)
-    faces_end = list_counts(face_count, m.begin_[1][c], m.begin_[1][c + 1], faces_end);
+    faces_end = list_marks(face_count, m.begin_[1][c], m.begin_[1][c + 1], faces_end, odd_count);
   const std::uint32_t nse = static_cast<std::uint32_t>(faces_end - faces);
   Incidence::Storage edges = out.boundary[0].storage();
   edges.ids.resize(2 * std::size_t{nse});
@@ -240,54 +432,35 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   out.source[1].resize(nse);
   std::uint32_t cut_cells_bound = 0;  // (cut face, cell) pairs: the polygons' entries
   {
-    std::uint32_t* const edge_row = edges.ids.data();
-    std::uint32_t* const src = out.source[1].data();
-    std::uint32_t* const face_edge = face_edge_.data();
-    std::uint32_t* const fill = cell_fill_.data();
-    std::uint32_t* const start = cell_start_.data();
-    const std::uint32_t* const cell_row = C.offsets.data();
-    CellStep* bucket = cell_steps_.data();
-    std::size_t room = cell_steps_.size(), placed = 0;
-    bool bad = false;
-    for (std::uint32_t se = 0; se < nse; ++se) {
-      const std::uint64_t item = faces[se];
-      const std::uint32_t x = static_cast<std::uint32_t>(item >> 8);
-      const std::uint32_t p = face_ends[2 * x], q = face_ends[2 * x + 1];
-      // Two crossings (no more, no fewer), distinct, of opposite coefficients.
-      bad |= (item & 0xffu) != 2 || ((p ^ q) & kFlip) == 0 || ((p ^ q) & kIndex) == 0;
-      const std::uint32_t tail = p ^ ((p ^ q) & (0u - (p >> 31)));  // (p's flip: q is the tail)
-      const std::uint32_t ta = tail & kIndex, hd = (p ^ q ^ tail) & kIndex;
-      edge_row[2 * se] = ta;
-      edge_row[2 * se + 1] = hd;
-      src[se] = face_model ? face_model[x] : x;
-      face_edge[x] = se;
-      const std::uint32_t j0 = face_up.begin(x), j1 = face_up.end(x);
-      if (buckets) {
-        for (std::uint32_t j = j0; j < j1; ++j) {
-          const std::uint32_t up = face_up_ids[j];
-          const std::uint32_t y = up & kIndex;
-          const bool first = cell_count[y] == 0;  // (selects, not branches)
-          const std::uint32_t at = first ? static_cast<std::uint32_t>(placed) : fill[y];
-          start[y] = first ? at : start[y];
-          placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
-          if (placed > room) {  // (rare: the buckets keep their storage between slices)
-            cell_steps_.resize(std::max(2 * room, placed + 64));
-            room = cell_steps_.size();
-            bucket = cell_steps_.data();
-          }
-          cell_count[y] = 1;
-          fill[y] = at + 1;
-          // The step's sign is minus the face's sign in the cell: forward when that is -1.
-          const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
-          const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
-          bucket[at] = {t, ta ^ hd ^ t, se | (kFlip & ~fwd)};
-        }
-      } else {
-        for (std::uint32_t j = j0; j < j1; ++j) cell_count[face_up_ids[j] & kIndex] = 1;
-      }
-      cut_cells_bound += j1 - j0;
+    FaceHand h{faces,
+               nse,
+               face_ends,
+               edges.ids.data(),
+               out.source[1].data(),
+               face_model,
+               face_edge_.data(),
+               face_up.offsets,
+               face_up_ids,
+               face_up.stride,
+               cell_count,
+               cell_fill_.data(),
+               cell_start_.data(),
+               C.offsets.data(),
+               cell_steps_.data(),
+               cell_steps_.size()};
+    h.bad = odd_count != 0;
+    const bool two = face_up.stride == 2;
+    for (std::uint32_t se = 0;;) {
+      se = buckets ? (two ? hand_faces<true, 2>(h, se) : hand_faces<true, 0>(h, se))
+                   : (two ? hand_faces<false, 2>(h, se) : hand_faces<false, 0>(h, se));
+      if (se == nse) break;
+      // (rare: the buckets keep their storage between slices)
+      cell_steps_.resize(std::max(2 * cell_steps_.size(), h.want + 64));
+      h.bucket = cell_steps_.data();
+      h.room = cell_steps_.size();
     }
-    if (bad) return stop(-1);
+    cut_cells_bound = h.pairs;
+    if (h.bad) return stop(-1);
   }
   {
     std::uint32_t* const off = edges.offsets.data();
@@ -310,10 +483,12 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   polys.signs.resize(cut_cells_bound + kSlack);
   std::uint32_t npoly = 0;
   {
-    if (visit_list_.size() < cut_cells_bound + 1) visit_list_.resize(cut_cells_bound + 1);
-    std::uint64_t* const visit = visit_list_.data();
-    std::uint64_t* end = visit;
-    for (auto c : touched_) end = list_counts(cell_count, m.begin_[2][c], m.begin_[2][c + 1], end);
+    if (visit_list_.size() < cut_cells_bound + 8) visit_list_.resize(cut_cells_bound + 8);
+    std::uint32_t* const visit = visit_list_.data();
+    std::uint32_t* end = visit;
+    std::uint64_t odd_mark = 0;  // (every mark is 1)
+    for (auto c : touched_)
+      end = list_marks(cell_count, m.begin_[2][c], m.begin_[2][c + 1], end, odd_mark);
     const std::uint32_t ncut = static_cast<std::uint32_t>(end - visit);
     polys.offsets.resize(std::size_t{ncut} + 1);
     out.source[2].resize(ncut);
@@ -343,8 +518,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     const std::uint16_t* const tet_case = m.tet_cases_.data();
     std::uint32_t entries = 0;
     bool ok = true;
-    for (const std::uint64_t* it = visit; it != end && ok; ++it) {
-      const std::uint32_t x = static_cast<std::uint32_t>(*it >> 8);
+    for (const std::uint32_t* it = visit; it != end && ok; ++it) {
+      const std::uint32_t x = *it;
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
       if (tet_vertex) {
@@ -359,8 +534,11 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         for (std::uint32_t k = 0; k < 4; ++k) {  // (a triangle's fourth entry is dropped)
           const std::uint32_t entry = code >> (3 + 3 * k);
           poly_ids[entries + k] = face_edge[cell_faces[b + (entry & 3u)]];
-          poly_signs[entries + k] = static_cast<std::int8_t>(1 - static_cast<int>(entry & 4u) / 2);
         }
+        // The four signs (bit 2 of each entry: -1) as four bytes at once.
+        const std::uint32_t minus =
+            ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
+        std::memcpy(poly_signs + entries, &kSignBytes[minus], 4);
         added = code & 7u;
         ok = added != 7;
       } else if (nfaces <= 4) {
@@ -422,8 +600,10 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     polys.ids.resize(entries);
     polys.signs.resize(entries);
   }
-  for (const std::uint64_t* it = faces; it != faces_end; ++it)
-    face_edge_[static_cast<std::uint32_t>(*it >> 8)] = no_index;
+  if (tets)
+    face_edge_stale_ = true;
+  else
+    for (const std::uint32_t* it = faces; it != faces_end; ++it) face_edge_[*it] = no_index;
   out.source[2].resize(npoly);
   facet_internal_.resize(npoly);
   polys.offsets.resize(std::size_t{npoly} + 1);

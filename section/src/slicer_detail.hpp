@@ -174,7 +174,19 @@ struct Slicer::Placement {
   // Everything that does not depend on the plane offset.
   // xf == nullptr: the identity.
   void set(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
-    n = m.dim();
+    // The loops at a fixed trip count for R^4 and R^3 (the same operations in the same order).
+    if (m.dim() == 4)
+      set_dim<4>(m, p, xf);
+    else if (m.dim() == 3)
+      set_dim<3>(m, p, xf);
+    else
+      set_dim<0>(m, p, xf);
+  }
+
+  template <int D>
+  void set_dim(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
+    n = D > 0 ? D : m.dim();
+    const int n = D > 0 ? D : this->n;
     plane = &p;
     for (int i = 0; i < n; ++i) {
       t[i] = xf ? xf->translation()[i] : 0.0;
@@ -188,7 +200,7 @@ struct Slicer::Placement {
     double nn = 0.0;
     for (int j = 0; j < n; ++j) nn += nm[j] * nm[j];
     nm_norm = std::sqrt(nn);
-    hyperplane_basis(p.normal.data(), n, basis);
+    hyperplane_basis(p.normal.data(), n, basis);  // (fixed-size loops for n = 3, 4 there too)
     const int o = n - 1;
     if (!xf) {
       // The identity: every sum below adds exact zeros to one term, which leaves that term

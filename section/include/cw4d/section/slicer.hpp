@@ -429,8 +429,9 @@ class Slicer {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
   std::vector<std::uint32_t> face_ends_, face_edge_;
-  std::vector<std::uint64_t> face_list_;   // (face << 8) | count of the faces to cut
-  std::vector<std::uint64_t> visit_list_;  // (cell << 8) | mark of the cells to cut
+  bool face_edge_stale_ = false;           // a tetrahedral model's slice left face_edge_ unreset
+  std::vector<std::uint32_t> face_list_;   // the faces to cut
+  std::vector<std::uint32_t> visit_list_;  // the cells to cut
   std::vector<std::uint32_t> crossing_ids_;
   std::vector<std::uint8_t> face_mark_, cell_mark_;
   std::vector<LoopStep> loop_step_;
@@ -442,6 +443,12 @@ class Slicer {
   };
   std::vector<CellStep> cell_steps_;
   std::vector<std::uint32_t> cell_fill_, cell_start_;
+  // The kernel's pass over the cut faces (kernel.cpp): Stride is the number of cells above
+  // every face when the model has one (2 in a closed manifold), 0 when it varies. Returns the
+  // first face not done: nse, or a face whose cells' buckets did not fit (room to grow).
+  struct FaceHand;
+  template <bool Buckets, std::uint32_t Stride>
+  static std::uint32_t hand_faces(FaceHand& h, std::uint32_t se);
   void
   forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
 };
