@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <type_traits>
@@ -218,6 +219,11 @@ struct Scratch {
   TetSection soup;
   std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
   std::vector<TetCutPoint> cut_buf;
+  // The last placement's linear map and what is derived from it alone (A^{-T}, det A < 0):
+  // slices under one placement compute them once.
+  bool have_lin = false;
+  Eigen::Matrix4d last_lin, last_normal_map;
+  bool last_flip = false;
 };
 
 // Scratch arrays only grow (their contents are written before they are read).
@@ -281,8 +287,15 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
   }
   pr.any_neg = any_neg != 0, pr.any_pos = any_pos != 0, pr.any_on = any_on != 0;
   // World-space frame: y = B^T (A x + t - origin); normals transform by A^{-T}.
-  pr.normal_map = pr.lin.inverse().transpose();
-  pr.flip = pr.lin.determinant() < 0.0;
+  // (Compared bit for bit: the same inputs give the same inverse and determinant sign.)
+  if (!sc.have_lin || std::memcmp(sc.last_lin.data(), pr.lin.data(), sizeof(double) * 16) != 0) {
+    sc.last_lin = pr.lin;
+    sc.last_normal_map = pr.lin.inverse().transpose();
+    sc.last_flip = pr.lin.determinant() < 0.0;
+    sc.have_lin = true;
+  }
+  pr.normal_map = sc.last_normal_map;
+  pr.flip = sc.last_flip;
   pr.bt = frame.basis.transpose();
   pr.offset = pr.bt * (t4 - plane.offset * n4);
   pr.W = pr.bt * pr.lin;
