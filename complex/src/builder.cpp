@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "cone_determinants.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
@@ -107,17 +108,7 @@ double component_volume(const Complex& c, const std::vector<std::uint32_t>& face
   Eigen::VectorXd centre = Eigen::VectorXd::Zero(n);
   for (auto v : verts) centre += scale * p.col(v);
   if (!verts.empty()) centre /= static_cast<double>(verts.size());
-  Eigen::MatrixXd m(n, n);
-  double total = 0.0;
-  for (auto f : facets) {
-    for_each_simplex(c, n - 1, f, [&](std::span<const std::uint32_t> v, int sign) {
-      for (int j = 0; j < n; ++j) m.col(j) = scale * p.col(v[j]) - centre;
-      total += sign * (n == 4   ? Eigen::Matrix4d(m).determinant()
-                       : n == 3 ? Eigen::Matrix3d(m).determinant()
-                                : m.determinant());
-    });
-  }
-  return total;
+  return facet_cone_determinants(c, facets, centre, scale);
 }
 
 }  // namespace

@@ -3,8 +3,12 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <unordered_map>
 #include <vector>
+
+#include "cone_determinants.hpp"
 
 namespace cw4d {
 
@@ -55,12 +59,15 @@ bool contains_vertex(const Complex& c, int rank, std::uint32_t i, std::uint32_t 
 }
 
 // Emits prefix + the simplices of element i. `prefix` holds the apexes of the enclosing cones
-// (outermost first), `scratch` is reused for face cycles; nothing is allocated per simplex.
+// (outermost first), `cycle` is reused for face cycles; nothing is allocated per simplex.
 struct SimplexWalker {
   const Complex& c;
   const std::function<void(std::span<const std::uint32_t>, int)>& f;
+  int top;  // the rank of the element decomposed
   std::vector<std::uint32_t> prefix;
   std::vector<std::uint32_t> cycle;
+  std::unordered_map<std::uint64_t, std::size_t> kept;  // (rank, element) -> offset in flags
+  std::vector<std::uint8_t> flags;                      // 1: cone over this boundary entry
 
   void emit(std::initializer_list<std::uint32_t> tail, int sign) {
     const std::size_t base = prefix.size();
@@ -92,59 +99,156 @@ struct SimplexWalker {
     const Incidence& table = c.boundary(rank);
     auto ids = table.ids(i);
     auto signs = table.signs(i);
+    // A cone from the apex over a boundary element that contains the apex is flat: skip it
+    // whole (checking only the sub-simplices would keep flat slivers of rounding noise). The
+    // apex is a function of the element, so which ones are skipped is too: below the top,
+    // where one element is reached along many cones (an n-cube's ridges along (n-1)! of
+    // them), the decisions are made once per element.
+    // (flags grows in the walks below: indexed, not pointed into)
+    std::size_t keep = flags.size();
+    const bool memo = rank < top;
+    if (memo) {
+      const std::uint64_t key = (std::uint64_t{static_cast<std::uint32_t>(rank)} << 32) | i;
+      const auto [it, fresh] = kept.try_emplace(key, flags.size());
+      if (fresh)
+        for (auto id : ids) flags.push_back(contains_vertex(c, rank - 1, id, apex) ? 0 : 1);
+      keep = it->second;
+    }
     prefix.push_back(apex);
     for (std::size_t j = 0; j < ids.size(); ++j) {
-      // A cone from the apex over a boundary element that contains the apex is flat: skip it
-      // whole (checking only the sub-simplices would keep flat slivers of rounding noise).
-      if (contains_vertex(c, rank - 1, ids[j], apex)) continue;
+      if (memo ? !flags[keep + j] : contains_vertex(c, rank - 1, ids[j], apex)) continue;
       walk(rank - 1, ids[j], sign * signs[j]);
     }
     prefix.pop_back();
   }
 };
 
-// det of an n x n matrix: Eigen's closed forms for n <= 4 and its partial-pivoting LU at a
-// fixed size up to 8, on the stack; only larger ones allocate.
+// Dense kernels on column-major arrays (entry (i, j) of an n-row matrix at a[i + n * j]):
+// simplices of a triangulation are measured by the ten thousand (the facets of an 8-cube have
+// 80640), so each measure is one factorisation with no Eigen temporary, no allocation and no
+// per-entry check.
+
+// Storage for one n x n matrix, a permutation and two vectors: on the stack up to 8 x 8.
+class Workspace {
+  static constexpr int small = 8;
+  double small_a_[small * small];
+  double small_z_[small];
+  double small_x_[small];
+  int small_perm_[small];
+  std::vector<double> big_a_, big_z_, big_x_;
+  std::vector<int> big_perm_;
+
+ public:
+  double* a = small_a_;
+  double* z = small_z_;
+  double* x = small_x_;
+  int* perm = small_perm_;
+
+  explicit Workspace(int n) {
+    if (n > small) {
+      const auto size = static_cast<std::size_t>(n);
+      big_a_.resize(size * size);
+      big_z_.resize(size);
+      big_x_.resize(size);
+      big_perm_.resize(size);
+      a = big_a_.data();
+      z = big_z_.data();
+      x = big_x_.data();
+      perm = big_perm_.data();
+    }
+  }
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+};
+
+// Eliminates columns 0..cols-1 of the n-row matrix a in place with partial (row) pivoting,
+// P a = L U: U on and above the diagonal, L's multipliers below it, perm[i] the original row
+// now at row i. Returns sign(P) times the product of U's diagonal, or 0 (and stops) at a column
+// with no non-zero pivot left: a is then of rank below cols.
+double eliminate(double* a, int n, int cols, int* perm) {
+  double d = 1.0;
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  for (int j = 0; j < cols; ++j) {
+    double* cj = a + n * j;
+    int p = j;
+    double best = std::abs(cj[j]);
+    for (int i = j + 1; i < n; ++i) {
+      if (std::abs(cj[i]) > best) {
+        best = std::abs(cj[i]);
+        p = i;
+      }
+    }
+    if (best == 0.0) return 0.0;
+    if (p != j) {
+      for (int c = 0; c < cols; ++c) std::swap(a[p + n * c], a[j + n * c]);
+      std::swap(perm[p], perm[j]);
+      d = -d;
+    }
+    const double pivot = cj[j];
+    d *= pivot;
+    for (int i = j + 1; i < n; ++i) {
+      const double l = cj[i] / pivot;
+      cj[i] = l;
+      for (int c = j + 1; c < cols; ++c) a[i + n * c] -= l * a[j + n * c];
+    }
+  }
+  return d;
+}
+
+// Eigen's closed form of an N x N determinant (N <= 4).
 template <int N>
-double det_fixed(const Eigen::MatrixXd& m) {
-  return Eigen::Matrix<double, N, N>(m).determinant();
+double det_closed(const double* a) {
+  return Eigen::Map<const Eigen::Matrix<double, N, N>>(a).determinant();
 }
 
-double det(const Eigen::MatrixXd& m) {
-  switch (m.rows()) {
+// det of the n x n matrix in w.a (overwritten): Eigen's closed forms up to 4 x 4, one
+// elimination above.
+double det_in_place(Workspace& w, int n) {
+  switch (n) {
     case 1:
-      return m(0, 0);
+      return w.a[0];
     case 2:
-      return det_fixed<2>(m);
+      return det_closed<2>(w.a);
     case 3:
-      return det_fixed<3>(m);
+      return det_closed<3>(w.a);
     case 4:
-      return det_fixed<4>(m);
-    case 5:
-      return det_fixed<5>(m);
-    case 6:
-      return det_fixed<6>(m);
-    case 7:
-      return det_fixed<7>(m);
-    case 8:
-      return det_fixed<8>(m);
+      return det_closed<4>(w.a);
     default:
-      return m.determinant();
+      return eliminate(w.a, n, n, w.perm);
   }
 }
 
-// generalized_cross into x, with m an n x n work matrix (nothing allocated when both have
-// their sizes already).
-void generalized_cross_into(const Eigen::MatrixXd& u, Eigen::MatrixXd& m, Eigen::VectorXd& x) {
-  const Eigen::Index n = u.rows();
-  x.resize(n);
-  m.resize(n, n);
-  m.leftCols(n - 1) = u;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    m.col(n - 1).setZero();
-    m(j, n - 1) = 1.0;
-    x(j) = det(m);
+// The generalized cross product x of the n x (n-1) matrix u in w.a (overwritten), with
+// x . y = det(u, y) for every y, from one factorisation P u = L U instead of n cofactors:
+// [P u | e_n] = [L | e_n] [U 0; 0 1], so det(u, y) = sign(P) prod(U) (z . P y) with z the
+// solution of [L | e_n]^T z = e_n (one back substitution), and x = sign(P) prod(U) P^T z.
+// A u of rank below n-1 gives x = 0, as every cofactor is then 0. Up to R^4 the n cofactors
+// are Eigen's closed forms (as cheap, and the results of R^3 and R^4 stay as they were).
+void cross_in_place(Workspace& w, int n, double* x) {
+  const int k = n - 1;
+  if (n <= 4) {
+    double* last = w.a + n * k;
+    for (int j = 0; j < n; ++j) {
+      std::fill(last, last + n, 0.0);
+      last[j] = 1.0;
+      x[j] = det_in_place(w, n);
+    }
+    return;
   }
+  const double d = eliminate(w.a, n, k, w.perm);
+  if (d == 0.0) {
+    std::fill(x, x + n, 0.0);
+    return;
+  }
+  double* z = w.z;
+  z[n - 1] = 1.0;
+  for (int m = k - 1; m >= 0; --m) {
+    const double* lm = w.a + n * m;
+    double s = 0.0;
+    for (int r = m + 1; r < n; ++r) s += lm[r] * z[r];
+    z[m] = -s;
+  }
+  for (int i = 0; i < n; ++i) x[w.perm[i]] = d * z[i];
 }
 
 double factorial(int k) {
@@ -157,14 +261,17 @@ double factorial(int k) {
 
 void for_each_simplex(const Complex& complex, int rank, std::uint32_t i,
                       const std::function<void(std::span<const std::uint32_t>, int)>& f) {
-  SimplexWalker walker{complex, f, {}, {}};
+  SimplexWalker walker{complex, f, rank, {}, {}, {}, {}};
   walker.walk(rank, i, 1);
 }
 
 Eigen::VectorXd generalized_cross(const Eigen::MatrixXd& u) {
-  Eigen::MatrixXd m;
-  Eigen::VectorXd x;
-  generalized_cross_into(u, m, x);
+  const int n = static_cast<int>(u.rows());
+  assert(u.cols() == n - 1);
+  Workspace w(n);
+  std::copy(u.data(), u.data() + u.size(), w.a);
+  Eigen::VectorXd x(n);
+  cross_in_place(w, n, x.data());
   return x;
 }
 
@@ -181,36 +288,64 @@ Eigen::VectorXd facet_area_vector(const Complex& complex, std::uint32_t facet, d
   const int n = complex.ambient_dim();
   const int k = n - 1;
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd u(n, k), m(n, n);
-  Eigen::VectorXd x(n);
-  const auto& p = complex.positions();
+  double* s = sum.data();
+  Workspace w(n);
+  const double* p = complex.positions().data();
   for_each_simplex(complex, k, facet, [&](std::span<const std::uint32_t> v, int sign) {
-    for (int j = 0; j < k; ++j) u.col(j) = scale * p.col(v[j + 1]) - scale * p.col(v[0]);
-    generalized_cross_into(u, m, x);
-    sum += static_cast<double>(sign) * x;
+    const double* p0 = p + static_cast<std::size_t>(n) * v[0];
+    for (int j = 0; j < k; ++j) {
+      const double* pj = p + static_cast<std::size_t>(n) * v[j + 1];
+      for (int i = 0; i < n; ++i) w.a[i + n * j] = scale * pj[i] - scale * p0[i];
+    }
+    cross_in_place(w, n, w.x);
+    for (int i = 0; i < n; ++i) s[i] += static_cast<double>(sign) * w.x[i];
   });
   const double parity = (k % 2 == 0) ? 1.0 : -1.0;
   return parity * sum / factorial(k);
 }
 
+namespace {
+
+// Sum (and sum of magnitudes) of det(scale p_0 - centre, ..., scale p_{n-1} - centre) over the
+// simplices of facet f.
+void add_cone_determinants(const Complex& complex, std::uint32_t f, const double* centre,
+                           double scale, Workspace& w, double& total, double& absolute) {
+  const int n = complex.ambient_dim();
+  const double* p = complex.positions().data();
+  for_each_simplex(complex, n - 1, f, [&](std::span<const std::uint32_t> v, int sign) {
+    for (int j = 0; j < n; ++j) {
+      const double* pj = p + static_cast<std::size_t>(n) * v[j];
+      for (int i = 0; i < n; ++i) w.a[i + n * j] = scale * pj[i] - centre[i];
+    }
+    const double d = det_in_place(w, n);
+    total += sign * d;
+    absolute += std::abs(d);
+  });
+}
+
+}  // namespace
+
 double signed_volume(const Complex& complex, double scale, double* magnitude) {
   const int n = complex.ambient_dim();
   const int k = n - 1;
   if (complex.count(k) == 0 || k < 1) return 0.0;
-  const auto& p = complex.positions();
-  const Eigen::VectorXd c = (scale * p).rowwise().mean();
-  Eigen::MatrixXd m(n, n);
+  const Eigen::VectorXd c = (scale * complex.positions()).rowwise().mean();
+  Workspace w(n);
   double total = 0.0, absolute = 0.0;
-  for (std::uint32_t f = 0; f < complex.count(k); ++f) {
-    for_each_simplex(complex, k, f, [&](std::span<const std::uint32_t> v, int sign) {
-      for (int j = 0; j < n; ++j) m.col(j) = scale * p.col(v[j]) - c;
-      const double d = det(m);
-      total += sign * d;
-      absolute += std::abs(d);
-    });
-  }
+  for (std::uint32_t f = 0; f < complex.count(k); ++f)
+    add_cone_determinants(complex, f, c.data(), scale, w, total, absolute);
   if (magnitude) *magnitude = absolute / factorial(n);
   return total / factorial(n);
+}
+
+double facet_cone_determinants(const Complex& complex, std::span<const std::uint32_t> facets,
+                               const Eigen::VectorXd& centre, double scale) {
+  const int n = complex.ambient_dim();
+  if (n < 2) return 0.0;
+  Workspace w(n);
+  double total = 0.0, absolute = 0.0;
+  for (auto f : facets) add_cone_determinants(complex, f, centre.data(), scale, w, total, absolute);
+  return total;
 }
 
 double element_volume(const Complex& complex, int rank, std::uint32_t i) {
