@@ -197,9 +197,9 @@ run_fuzz_smoke() {
     log "fuzzing $target for ${seconds}s"
     # (a command line may legitimately run for seconds, and far slower instrumented: `info` of an
     # 8-dimensional built-in such as cube:8 loads, validates and measures 5 x 80640 simplices,
-    # 9-15 s per run here, 0.4 s in a release build; so 30 s for cli)
+    # 9-15 s per run here, 0.4 s in a release build; so 60 s for cli, room for a loaded machine)
     timeout=10
-    [[ "$target" == cli ]] && timeout=30
+    [[ "$target" == cli ]] && timeout=60
     "$dir/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 \
       -print_final_stats=1 -artifact_prefix="$dir/crash-$target-" "$work" "fuzz/corpus/$target" \
       2>"$dir/fuzz_$target.log" || { tail -n 40 "$dir/fuzz_$target.log" >&2; return 1; }
