@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cw4d/complex/builder.hpp"
@@ -868,4 +869,32 @@ TEST_CASE("every non-const call, copy and move gives a complex a revision never 
   copy = std::move(moved);
   CHECK(changed(copy));
   CHECK(changed(moved));  // NOLINT(bugprone-use-after-move)
+}
+
+TEST_CASE("revisions taken on several threads at once are all distinct", "[complex]") {
+  // Four threads each give 20 000 complexes new revisions (more than one thread's block of
+  // stamps), while the main thread takes some too: no value may appear twice.
+  constexpr int kThreads = 4, kEach = 20000;
+  std::vector<std::vector<std::uint64_t>> got(kThreads + 1);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&got, t] {
+      Complex c(2);
+      for (int i = 0; i < kEach; ++i) {
+        c.touch();
+        got[t].push_back(c.revision());
+      }
+    });
+  Complex mine(3);
+  for (int i = 0; i < kEach; ++i) {
+    mine.touch();
+    got[kThreads].push_back(mine.revision());
+  }
+  for (auto& th : threads) th.join();
+  std::vector<std::uint64_t> all;
+  for (const auto& g : got) all.insert(all.end(), g.begin(), g.end());
+  REQUIRE(all.size() == std::size_t{kThreads + 1} * kEach);
+  CHECK(std::find(all.begin(), all.end(), 0u) == all.end());
+  std::sort(all.begin(), all.end());
+  CHECK(std::adjacent_find(all.begin(), all.end()) == all.end());
 }
