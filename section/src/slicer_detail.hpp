@@ -185,8 +185,8 @@ struct Slicer::Placement {
 
   template <int D>
   void set_dim(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
-    n = D > 0 ? D : m.dim();
-    const int n = D > 0 ? D : this->n;
+    const int n = D > 0 ? D : m.dim();  // (a constant for the loops when D > 0)
+    this->n = n;
     plane = &p;
     for (int i = 0; i < n; ++i) {
       t[i] = xf ? xf->translation()[i] : 0.0;
