@@ -431,6 +431,15 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   if (ns == 0) return 0;
   if (ns < 3) return 2;
   const std::size_t first = w.loops.size();
+  // A loop entry and its sign in the polygon (-1 when the step runs backward), side by side.
+  auto push = [&w](std::uint32_t entry) {
+    w.loops.push_back(entry);
+    w.loop_signs.push_back((entry & kSweepFlip) ? std::int8_t{-1} : std::int8_t{1});
+  };
+  auto drop = [&w, first] {
+    w.loops.resize(first);
+    w.loop_signs.resize(first);
+  };
   if (ns <= kSweepSmall) {
     std::uint32_t lo = 0;
     for (std::uint32_t i = 1; i < ns; ++i) {
@@ -449,14 +458,14 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
     const std::uint32_t start = tails[lo];
     std::uint32_t cur = lo;
     for (std::uint32_t k = 1;; ++k) {
-      w.loops.push_back(entries[cur]);
+      push(entries[cur]);
       if (heads[cur] == start) {
         if (k == ns) break;
-        w.loops.resize(first);  // several loops
+        drop();  // several loops
         return 2;
       }
       if (next[cur] == 0 || k == ns) {  // the chain does not close
-        w.loops.resize(first);
+        drop();
         return 2;
       }
       cur = next[cur] - 1;
@@ -477,13 +486,13 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
     std::uint32_t cur = lo, k = 0;
     for (;;) {
       if (w.loop_stamp[cur] != st) break;  // the chain does not close
-      w.loops.push_back(w.loop_entry[cur]);
+      push(w.loop_entry[cur]);
       ++k;
       cur = w.loop_head[cur];
       if (cur == lo || k == ns) break;
     }
     if (cur != lo || k != ns) {  // open, or several loops
-      w.loops.resize(first);
+      drop();
       return 2;
     }
   }
@@ -530,6 +539,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
     w.cell_row_bits.assign((m.ranks_[3].ids.size() + 63) / 64, 0);
     std::uint64_t* face_row = w.face_row_bits.data();
     w.loops.clear();
+    w.loop_signs.clear();
     w.live = 0;
     w.bad = 0;
     for (std::uint32_t e = 0; e < ne; ++e)
@@ -606,12 +616,16 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   // Recomputed cells appended their loops: compact when the dead ones dominate.
   if (w.loops.size() > 4 * w.live + 4096) {
     w.merged.clear();
+    w.merged_signs.clear();
     for (std::uint32_t c : w.cells) {
       const std::uint32_t b = w.cell_loop[c];
       w.cell_loop[c] = static_cast<std::uint32_t>(w.merged.size());
       w.merged.insert(w.merged.end(), w.loops.begin() + b, w.loops.begin() + b + w.cell_size[c]);
+      w.merged_signs.insert(w.merged_signs.end(), w.loop_signs.begin() + b,
+                            w.loop_signs.begin() + b + w.cell_size[c]);
     }
     w.loops.swap(w.merged);
+    w.loop_signs.swap(w.merged_signs);
   }
 }
 
@@ -870,7 +884,14 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         src[i] = face_id ? face_id[f] : f;
         edge_index[f] = i;
       }
-      for (std::uint32_t i = 0; i < nse; ++i) signs[2 * i] = -1, signs[2 * i + 1] = 1;
+      {  // -1, +1 for every edge, sixteen bytes at a time
+        static constexpr std::int8_t kPairs[16] = {-1, 1, -1, 1, -1, 1, -1, 1,
+                                                   -1, 1, -1, 1, -1, 1, -1, 1};
+        const std::size_t bytes = 2 * std::size_t{nse};
+        std::size_t b = 0;
+        for (; b + 16 <= bytes; b += 16) std::memcpy(signs + b, kPairs, 16);
+        std::memcpy(signs + b, kPairs, bytes - b);
+      }
       for (std::uint32_t i = 0; i <= nse; ++i) offs[i] = 2 * i;
     }
     // Rank 3: a polygon per cut cell, turned as finish_fast turns it (a reflecting placement
@@ -883,7 +904,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       const std::uint32_t* cell_loop = w.cell_loop.data();
       const std::size_t kept = w.loops.size();
       w.loops.resize(kept + kSweepChunk);  // (read by the last chunks; cut off below)
+      w.loop_signs.resize(kept + kSweepChunk);
       const std::uint32_t* loops = w.loops.data();
+      const std::int8_t* loop_signs = w.loop_signs.data();
       const std::uint32_t* edge_index = w.edge_index.data();
       std::size_t entries = 0;
       for (std::uint32_t p = 0; p < npoly; ++p) entries += cell_size[cells[p]];
@@ -904,17 +927,17 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       for (std::uint32_t p = 0; p < npoly; ++p) {
         const std::uint32_t c = cells[p];
         const std::uint32_t* loop = loops + cell_loop[c];
+        const std::int8_t* loop_sign = loop_signs + cell_loop[c];
         const std::uint32_t cnt = cell_size[c];
         if (!reverse) {
           // Whole chunks, without a branch per entry: what a chunk writes beyond the loop's
           // end is overwritten by the next loop (or lies in the slack cut off below); what it
           // reads there are other loops' entries or the slack's zeros, all faces.
-          for (std::uint32_t i = 0; i < cnt; i += kSweepChunk)
-            for (std::uint32_t q = 0; q < kSweepChunk; ++q) {
-              const std::uint32_t x = loop[i + q];
-              ids[at + i + q] = edge_index[x & ~kSweepFlip];
-              signs[at + i + q] = static_cast<std::int8_t>(1 - 2 * static_cast<int>(x >> 31));
-            }
+          for (std::uint32_t i = 0; i < cnt; i += kSweepChunk) {
+            for (std::uint32_t q = 0; q < kSweepChunk; ++q)
+              ids[at + i + q] = edge_index[loop[i + q] & ~kSweepFlip];
+            std::memcpy(signs + at + i, loop_sign + i, kSweepChunk);
+          }
         } else {
           for (std::uint32_t i = 0; i < cnt; ++i) {
             ids[at + cnt - 1 - i] = edge_index[loop[i] & ~kSweepFlip];
@@ -928,6 +951,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
       polys.ids.resize(entries);
       polys.signs.resize(entries);
       w.loops.resize(kept);
+      w.loop_signs.resize(kept);
       if (direct) {
         o.facet_normals.resize(3 * std::size_t{npoly});
         double* normals = o.facet_normals.data();

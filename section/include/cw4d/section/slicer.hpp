@@ -385,6 +385,7 @@ class Slicer {
     std::vector<std::uint64_t> face_row_bits, cell_row_bits;
     std::vector<std::uint32_t> edges, faces, cells;                     // the cut ones, ascending
     std::vector<std::uint32_t> face_ends, cell_loop, cell_size, loops;  // face_ends: tail, head
+    std::vector<std::int8_t> loop_signs, merged_signs;  // each loop entry's sign in its polygon
     std::vector<std::uint32_t> stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
     std::vector<std::uint32_t> near_f, near_c, merged, steps;
     std::vector<std::uint32_t> vertex_index, edge_index;
