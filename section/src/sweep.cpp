@@ -305,6 +305,31 @@ void list_bits(const std::vector<std::uint64_t>& bits, std::vector<std::uint32_t
   list.resize(count);
 }
 
+// list (ascending) := list with the membership of every id in `toggled` (distinct, any order)
+// switched: those in it removed, the others inserted; the runs between are copied. spare:
+// scratch, left with the old list's storage.
+void toggle_sorted(std::vector<std::uint32_t>& list, std::vector<std::uint32_t>& toggled,
+                   std::vector<std::uint32_t>& spare) {
+  if (toggled.empty()) return;
+  std::sort(toggled.begin(), toggled.end());
+  spare.resize(list.size() + toggled.size());
+  const std::uint32_t* from = list.data();
+  const std::uint32_t* const end = from + list.size();
+  std::uint32_t* to = spare.data();
+  for (const std::uint32_t x : toggled) {
+    const std::uint32_t* const at = std::lower_bound(from, end, x);
+    to = std::copy(from, at, to);
+    from = at;
+    if (from != end && *from == x)
+      ++from;  // removed
+    else
+      *to++ = x;  // inserted
+  }
+  to = std::copy(from, end, to);
+  spare.resize(static_cast<std::size_t>(to - spare.data()));
+  list.swap(spare);
+}
+
 // Calls f(x) for every set bit x of [b, e), in increasing order, while f returns true; false
 // when f stopped it.
 template <class F>
@@ -523,7 +548,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
     w.bad += (now == 2) - (was == 2);
     w.cell_state[c] = now;
     if ((now == 1) != (was == 1)) {
-      put_bit(w.cell_bits, c, now == 1);
+      if (rebuild) put_bit(w.cell_bits, c, now == 1);
       return true;
     }
     return false;
@@ -566,16 +591,17 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   }
   // Rank 1: the edges at the moved vertices that changed side; the faces on those.
   std::uint64_t* face_row = w.face_row_bits.data();
+  // (The lists of cut elements are switched where their membership changed; the bits over
+  // them are read only when rebuilding, which sets them anew.)
   w.near_f.clear();
-  bool changed = false;
+  w.toggled.clear();
   for (std::uint32_t v : moved)
     for (std::uint32_t i = w.vertex_edge_offsets[v]; i < w.vertex_edge_offsets[v + 1]; ++i) {
       const std::uint32_t e = w.vertex_edges[i].element;
       const std::uint8_t in = side[v] != side[w.vertex_edges[i].index];
       if (in == w.edge_in[e]) continue;  // (both ends moved: it crosses neither time)
       w.edge_in[e] = in;
-      put_bit(w.edge_bits, e, in);
-      changed = true;
+      w.toggled.push_back(e);
       for (std::uint32_t j = edge_face_offsets[e]; j < edge_face_offsets[e + 1]; ++j) {
         const SweepSlot s = edge_faces[j];
         flip_bit(face_row, s.index);
@@ -585,10 +611,10 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
         }
       }
     }
-  if (changed) list_bits(w.edge_bits, w.edges);
+  toggle_sorted(w.edges, w.toggled, w.spare);
   // Rank 2: those faces; the cells on the faces that changed.
   w.near_c.clear();
-  changed = false;
+  w.toggled.clear();
   for (std::uint32_t f : w.near_f) {
     const std::uint8_t was = w.face_state[f];
     const std::uint32_t tail = w.face_ends[2 * f], head = w.face_ends[2 * f + 1];
@@ -597,7 +623,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       continue;
     w.face_state[f] = now;
     w.bad += (now == 2) - (was == 2);
-    if ((now == 1) != (was == 1)) put_bit(w.face_bits, f, now == 1), changed = true;
+    if ((now == 1) != (was == 1)) w.toggled.push_back(f);
     const bool row = (now != 0) != (was != 0);
     for (std::uint32_t j = face_cell_offsets[f]; j < face_cell_offsets[f + 1]; ++j) {
       const SweepSlot s = face_cells[j];
@@ -608,11 +634,12 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
       }
     }
   }
-  if (changed) list_bits(w.face_bits, w.faces);
+  toggle_sorted(w.faces, w.toggled, w.spare);
   // Rank 3: those cells (after every face is renewed).
-  changed = false;
-  for (std::uint32_t c : w.near_c) changed |= cell_pass(c);
-  if (changed) list_bits(w.cell_bits, w.cells);
+  w.toggled.clear();
+  for (std::uint32_t c : w.near_c)
+    if (cell_pass(c)) w.toggled.push_back(c);
+  toggle_sorted(w.cells, w.toggled, w.spare);
   // Recomputed cells appended their loops: compact when the dead ones dominate.
   if (w.loops.size() > 4 * w.live + 4096) {
     w.merged.clear();

@@ -389,7 +389,8 @@ class Slicer {
     std::vector<std::uint32_t> stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
     std::vector<std::uint32_t> near_f, near_c, merged, steps;
     std::vector<std::uint32_t> vertex_index, edge_index;
-    std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones
+    std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones (when rebuilding)
+    std::vector<std::uint32_t> toggled, spare;  // ids whose membership switched; list scratch
     // Each cell's section facet normal for the sweep's normal, and 1 (0: nearly parallel).
     std::vector<double> cell_normal;
     std::size_t live = 0;  // entries of the cut cells' loops
