@@ -158,6 +158,43 @@ std::uint32_t facet_towards(const Complex& c, const Eigen::VectorXd& direction) 
 // ---------------------------------------------------------------------------------------------
 // (a) f-vectors
 
+TEST_CASE("an empty boundary table reads as one offset 0, and rows append to it", "[complex]") {
+  Incidence t;
+  CHECK(t.size() == 0);
+  CHECK(t.empty());
+  CHECK(t.entries() == 0);
+  CHECK(t.offsets() == std::vector<std::uint32_t>{0});
+  CHECK(t.well_formed(0));
+  const std::uint32_t ids0[] = {3, 5}, ids1[] = {1, 2, 4};
+  const std::int8_t signs0[] = {-1, 1}, signs1[] = {1, 1, -1};
+  CHECK(t.add_row(ids0, signs0) == 0);
+  CHECK(t.add_row(ids1, signs1) == 1);
+  CHECK(t.offsets() == std::vector<std::uint32_t>{0, 2, 5});
+  CHECK(t.row_size(1) == 3);
+  CHECK(t.ids(1)[2] == 4);
+  CHECK(t.signs(0)[0] == -1);
+  CHECK(t.well_formed(6));
+  CHECK_FALSE(t.well_formed(5));  // id 5 is not below 5
+  const Incidence copy = t;
+  CHECK(copy.offsets() == t.offsets());
+  t.clear();
+  CHECK(t.size() == 0);
+  CHECK(t.offsets() == std::vector<std::uint32_t>{0});
+  CHECK(t.well_formed(0));
+  // An empty table with entries but no rows is not well formed.
+  t.storage().ids.push_back(0);
+  t.storage().signs.push_back(1);
+  CHECK_FALSE(t.well_formed(1));
+  // A writer that lays out the rows in place from an empty table.
+  Incidence w;
+  const Incidence::Storage st = w.storage();
+  st.offsets.assign({0, 1});
+  st.ids.assign({0});
+  st.signs.assign({1});
+  CHECK(w.size() == 1);
+  CHECK(w.well_formed(1));
+}
+
 TEST_CASE("f-vectors of simplex, cube and orthoplex match the binomial formulas", "[builtins]") {
   for (int n = 2; n <= 6; ++n) {
     INFO("n = " << n);

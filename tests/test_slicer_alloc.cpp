@@ -94,7 +94,7 @@ TEST_CASE("slicing allocates nothing after warm-up", "[slicer][alloc]") {
 TEST_CASE("section() allocates only the arrays of the Section it returns", "[slicer][alloc]") {
   // The oracle: the std::vector arrays reachable from the returned Section that hold anything
   // (its boundary tables, provenance lists, vertex sources, the complex's table and color
-  // lists), plus the one-entry offsets row each new table of a Complex starts with. Eigen's
+  // lists); a new table of a Complex allocates nothing until it is filled. Eigen's
   // matrices (positions, facet normals, the frame) allocate through their own aligned pair and
   // are not counted here.
   for (const char* spec : {"tesseract", "24-cell", "600-cell"}) {
@@ -117,7 +117,6 @@ TEST_CASE("section() allocates only the arrays of the Section it returns", "[sli
       for (int r = 1; r <= c.top_rank(); ++r) {
         count(c.boundary(r).all_ids());
         count(c.boundary(r).all_signs());
-        arrays += 1;  // offsets: the new table's one-entry row, then the filled one
         count(c.boundary(r).offsets());
       }
       arrays += 1;  // the complex's list of color lists (one, empty, from its constructor)
@@ -128,4 +127,16 @@ TEST_CASE("section() allocates only the arrays of the Section it returns", "[sli
       CHECK(made <= arrays);
     }
   }
+}
+
+TEST_CASE("a new boundary table allocates nothing", "[complex][alloc]") {
+  const std::size_t before = allocations.load();
+  const Incidence table;
+  CHECK(allocations.load() - before == 0);
+  Complex c(3);
+  const std::size_t with_complex = allocations.load();
+  c.boundary_mut(3);  // three empty tables: only the list that holds them is allocated
+  CHECK(allocations.load() - with_complex == 1);
+  CHECK(c.top_rank() == 3);
+  for (int r = 1; r <= 3; ++r) CHECK(c.boundary(r).offsets() == std::vector<std::uint32_t>{0});
 }

@@ -12,14 +12,21 @@ std::uint32_t Incidence::add_row(std::span<const std::uint32_t> ids,
                                  std::span<const std::int8_t> signs) {
   assert(ids.size() == signs.size());
   assert(ids_.size() + ids.size() < no_index && offsets_.size() < no_index);
+  if (offsets_.empty()) offsets_.push_back(0);
   ids_.insert(ids_.end(), ids.begin(), ids.end());
   signs_.insert(signs_.end(), signs.begin(), signs.end());
   offsets_.push_back(static_cast<std::uint32_t>(ids_.size()));
   return static_cast<std::uint32_t>(offsets_.size() - 2);
 }
 
+const std::vector<std::uint32_t>& Incidence::no_rows_offsets() {
+  static const std::vector<std::uint32_t> offsets{0};
+  return offsets;
+}
+
 bool Incidence::well_formed(std::size_t lower_count) const {
-  if (offsets_.empty() || offsets_.front() != 0 || offsets_.back() != ids_.size() ||
+  if (offsets_.empty()) return ids_.empty() && signs_.empty();
+  if (offsets_.front() != 0 || offsets_.back() != ids_.size() ||
       ids_.size() != signs_.size())
     return false;
   if (std::adjacent_find(offsets_.begin(), offsets_.end(), std::greater<>()) != offsets_.end())
@@ -36,7 +43,7 @@ void Incidence::reserve(std::size_t rows, std::size_t entries) {
 }
 
 void Incidence::clear() {
-  offsets_.assign(1, 0);
+  offsets_.clear();
   ids_.clear();
   signs_.clear();
 }

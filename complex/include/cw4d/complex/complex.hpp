@@ -32,9 +32,11 @@
 namespace cw4d {
 
 /// One compressed table of boundaries: row i lists the ids and signs of element i's boundary.
+/// A table with no rows holds no storage (constructing one allocates nothing); its offsets()
+/// are still {0}.
 class Incidence {
  public:
-  std::size_t size() const { return offsets_.size() - 1; }
+  std::size_t size() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   bool empty() const { return size() == 0; }
   std::size_t entries() const { return ids_.size(); }
   std::size_t row_size(std::size_t row) const {
@@ -59,13 +61,17 @@ class Incidence {
   void reserve(std::size_t rows, std::size_t entries);
   void clear();
 
-  const std::vector<std::uint32_t>& offsets() const { return offsets_; }
+  /// Row i's entries are [offsets()[i], offsets()[i + 1]); size() + 1 values, the first 0.
+  const std::vector<std::uint32_t>& offsets() const {
+    return offsets_.empty() ? no_rows_offsets() : offsets_;
+  }
   const std::vector<std::uint32_t>& all_ids() const { return ids_; }
   const std::vector<std::int8_t>& all_signs() const { return signs_; }
 
   /// The three arrays themselves, for writers that lay out many rows in place (resize, then
   /// fill). The caller restores the invariant: offsets starts with 0, does not decrease and
-  /// ends with ids.size() == signs.size().
+  /// ends with ids.size() == signs.size(); or all three are left empty (a table of no rows,
+  /// the state of a new table, whose offsets array is empty until a row is written).
   struct Storage {
     std::vector<std::uint32_t>& offsets;
     std::vector<std::uint32_t>& ids;
@@ -80,7 +86,9 @@ class Incidence {
   bool well_formed(std::size_t lower_count) const;
 
  private:
-  std::vector<std::uint32_t> offsets_{0};
+  static const std::vector<std::uint32_t>& no_rows_offsets();
+
+  std::vector<std::uint32_t> offsets_;  // empty: no rows (read as {0})
   std::vector<std::uint32_t> ids_;
   std::vector<std::int8_t> signs_;
 };
