@@ -64,7 +64,6 @@ std::uint64_t Revision::next() noexcept {
 
 Complex::Complex(int ambient_dim) : dim_(ambient_dim), positions_(ambient_dim, 0) {
   if (ambient_dim < 1) throw std::invalid_argument("cw4d::Complex: ambient_dim must be >= 1");
-  colors_.resize(1);
 }
 
 std::size_t Complex::count(int rank) const {
