@@ -748,11 +748,14 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
 
 bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                             std::span<const std::uint32_t> section_edge,
-                            std::span<const std::uint32_t> facet_internal) {
+                            std::span<const std::uint32_t> facet_internal, bool facets) {
   const int n = m.dim_;
   const int o = n - 1;
   out.coords.resize(section_edge.size() * o);
-  out.facet_normals.resize(facet_internal.size() * o);
+  if (facets)
+    out.facet_normals.resize(facet_internal.size() * o);
+  else
+    facet_internal = {};
   const auto pass = n == 4 ? geometry_pass<4> : geometry_pass<3>;
   // The compiled copy of the facet normals, or (clustered models) the complex's own.
   const bool copied = !m.facet_normals_.empty() || m.ranks_[o].model_id.empty();

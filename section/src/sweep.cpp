@@ -860,8 +860,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         single(k);  // a crossing within the weld distance, or nearly parallel
         continue;
       }
-      // (no facets: write_geometry fails only on those; their normals are written below)
-      write_geometry(m, pl, o, w.edges, {});
+      // (no facets: write_geometry fails only on those; their normals are written below, into
+      // the layer's array as it is, so that its storage is not zeroed anew)
+      write_geometry(m, pl, o, w.edges, {}, false);
     }
     o.dim = 3;
     o.plane.normal = pl.plane->normal;

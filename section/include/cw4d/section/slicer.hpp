@@ -328,9 +328,11 @@ class Slicer {
   bool finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                    std::span<const std::uint32_t> section_edge,
                    std::span<const std::uint32_t> facet_internal);
+  // The section vertices' positions and (facets: true) the facet normals of facet_internal;
+  // facets: false leaves out.facet_normals as it is (a sweep writes them itself).
   bool write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
                       std::span<const std::uint32_t> section_edge,
-                      std::span<const std::uint32_t> facet_internal);
+                      std::span<const std::uint32_t> facet_internal, bool facets = true);
   void remember(const SliceModel& m, const Placement& pl, SliceBuffers& out);
   void sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
                     std::span<const double> offsets, std::span<const std::uint32_t> layers,
