@@ -8,6 +8,10 @@
 # in alternating rounds (old, new, old, new, ...) and prints per case the median time of each
 # and old/new. Nothing outside the checkout and /tmp is written; the worktree is removed.
 # BENCH_MODELS="tesseract/ 600-cell/" restricts the models (case name prefixes).
+# COUNT=1 prints instructions per operation (bench_instructions under valgrind's callgrind: the
+# slice, section, tet, sweep and sweep-slices cases, per layer for the last two, and the new
+# tree's 256 x slice / sweep) instead of times: the figure a loaded machine does not move.
+# COUNT_MODELS="tesseract 600-cell" restricts its models.
 # COMPARE_DIR=/tmp/somewhere keeps REF's worktree and build there for later runs (only the
 # benchmark itself is recompiled); remove it with `git worktree remove --force DIR/old`.
 set -euo pipefail
@@ -38,17 +42,19 @@ elif [[ $(git -C "$old_tree" rev-parse HEAD) != $(git -C "$root" rev-parse "$ref
   echo "compare.sh: $old_tree holds another commit than $ref" >&2
   exit 2
 fi
-cp "$root/bench/bench_compare.cpp" "$old_tree/bench/"
-if ! grep -q bench_compare "$old_tree/bench/CMakeLists.txt"; then
-  cat >>"$old_tree/bench/CMakeLists.txt" <<'CMAKE'
-add_executable(bench_compare bench_compare.cpp)
-target_link_libraries(bench_compare PRIVATE cw4d_tetrahedralize cw4d_section cw4d_complex
+for prog in bench_compare bench_instructions; do
+  cp "$root/bench/$prog.cpp" "$old_tree/bench/"
+  if ! grep -q "add_executable($prog " "$old_tree/bench/CMakeLists.txt"; then
+    cat >>"$old_tree/bench/CMakeLists.txt" <<CMAKE
+add_executable($prog $prog.cpp)
+target_link_libraries($prog PRIVATE cw4d_tetrahedralize cw4d_section cw4d_complex
   cw4d_settings)
 CMAKE
-fi
+  fi
+done
 build() {  # source dir, build dir
   CCACHE_BASEDIR="$1" cmake -S "$1" -B "$2" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  CCACHE_BASEDIR="$1" cmake --build "$2" -j2 --target bench_compare >/dev/null
+  CCACHE_BASEDIR="$1" cmake --build "$2" -j2 --target bench_compare bench_instructions >/dev/null
 }
 echo "building $ref ..." >&2
 build "$old_tree" "$tmp/build-old"
@@ -57,6 +63,38 @@ new_build=${NEW_BUILD:-$root/build}
 build "$root" "$new_build"
 old_bin="$tmp/build-old/bench/bench_compare"
 new_bin="$new_build/bench/bench_compare"
+if [[ "${COUNT:-0}" == 1 ]]; then
+  # Instructions per operation instead of times: (count at 3 rounds - count at 1) / 512.
+  command -v valgrind >/dev/null || { echo "compare.sh: COUNT=1 needs valgrind" >&2; exit 2; }
+  count() {  # program mode model rounds
+    valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 >/dev/null |
+      awk '/ refs:/ { gsub(",", "", $NF); print $NF }'
+  }
+  echo "# COUNT=1 bench/compare.sh $ref  ($(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet || echo '+dirty') vs $(git -C "$root" rev-parse --short "$ref"), instructions per operation, callgrind)"
+  printf "%-28s %12s %12s %9s\n" "case" "old" "new" "old/new"
+  cmodels=${COUNT_MODELS:-tesseract 24-cell 120-cell 600-cell duoprism:32,32}
+  declare -A newc
+  for mode in slice section tet sweep sweep-slices; do
+    for m in $cmodels; do
+      per=()
+      for side in old new; do
+        bin="$tmp/build-old/bench/bench_instructions"
+        [[ $side == new ]] && bin="$new_build/bench/bench_instructions"
+        one=$(count "$bin" "$mode" "$m" 1)
+        three=$(count "$bin" "$mode" "$m" 3)
+        per+=($(( (three - one) / 512 )))
+      done
+      newc[$mode/$m]=${per[1]}
+      awk -v c="$mode/$m" -v o="${per[0]}" -v w="${per[1]}" \
+        'BEGIN { printf "%-28s %12d %12d %8.2fx\n", c, o, w, o / w }'
+    done
+  done
+  for m in $cmodels; do
+    awk -v c="$m" -v s="${newc[sweep-slices/$m]}" -v w="${newc[sweep/$m]}" \
+      'BEGIN { printf "new %-24s 256 x slice / sweep %.2fx\n", c, s / w }'
+  done
+  exit 0
+fi
 # Alternating per model (the load of a shared machine drifts within a run): old, new, old, ...
 models=${BENCH_MODELS:-"tesseract/ 24-cell/ 120-cell/ 600-cell/ duoprism32/ omni120/"}
 for ((r = 1; r <= rounds; ++r)); do

@@ -1,0 +1,112 @@
+// A driver for counting instructions (valgrind --tool=callgrind), the figure that does not drift
+// with a shared machine's load: bench/compare.sh with COUNT=1 runs it from both builds (an older
+// commit and the working tree) and prints the instructions per operation of each.
+//
+//   bench_instructions MODE MODEL ROUNDS
+//
+// One warm-up operation, then ROUNDS rounds of 256 operations of MODE on MODEL, the same work as
+// bench_compare's case of that name:
+//   slice    Slicer::slice over bench::generic_planes (256 generic planes)
+//   section  cw4d::section(model, plane) over the same planes
+//   tet      slice_tets over the model's tetrahedral mesh, the same planes (into the indexed
+//            TetSliceMesh where the headers have it, else the TetSection soup)
+//   sweep    Slicer::sweep of 256 parallel layers (bench_compare's sweep), one sweep a round
+//   sweep-slices  the same 256 layers as 256 calls of Slicer::slice, a round
+// The count of one operation is (count at ROUNDS = 3 minus count at ROUNDS = 1) / 512: the
+// model's loading, compilation and the warm-up cancel out. Only API that both trees have is
+// used (newer entry points where the headers announce them), as in bench_compare.cpp.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "bench_options.hpp"
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
+
+namespace {
+
+int usage() {
+  std::fprintf(stderr, "usage: bench_instructions slice|section|tet|sweep|sweep-slices MODEL ROUNDS\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) return usage();
+  const std::string mode = argv[1];
+  const int rounds = std::atoi(argv[3]);
+  if (rounds < 0) return usage();
+  const cw4d::Complex model = cw4d::load_model(argv[2]);
+  const std::vector<cw4d::Hyperplane> planes = cw4d::bench::generic_planes(model, 256, 20240401u);
+  std::size_t sink = 0;
+  if (mode == "slice") {
+    const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
+    cw4d::Slicer slicer;
+    cw4d::SliceBuffers out;
+    slicer.slice(compiled, planes[0], out);
+    for (int r = 0; r < rounds; ++r)
+      for (const auto& p : planes) {
+        slicer.slice(compiled, p, out);
+        sink += out.vertex_source.size();
+      }
+  } else if (mode == "section") {
+    sink += cw4d::section(model, planes[0]).vertex_source.size();
+    for (int r = 0; r < rounds; ++r)
+      for (const auto& p : planes) sink += cw4d::section(model, p).vertex_source.size();
+  } else if (mode == "tet") {
+    const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
+#if defined(CW4D_TET_SLICE_INDEXED)
+    cw4d::TetSliceMesh out;
+    auto cut = [&](const cw4d::Hyperplane& p) { cw4d::slice_tets(mesh, p, out); };
+#elif defined(CW4D_TET_SLICE_INTO)
+    cw4d::TetSection out;
+    auto cut = [&](const cw4d::Hyperplane& p) { cw4d::slice_tets(mesh, p, out); };
+#else
+    cw4d::TetSection out;
+    auto cut = [&](const cw4d::Hyperplane& p) { out = cw4d::slice_tets(mesh, p); };
+#endif
+    cut(planes[0]);
+    for (int r = 0; r < rounds; ++r)
+      for (const auto& p : planes) {
+        cut(p);
+        sink += out.triangle_count();
+      }
+  } else if (mode == "sweep" || mode == "sweep-slices") {
+    const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
+    cw4d::Slicer slicer;
+    Eigen::VectorXd normal(4);
+    normal << 0.5377, 1.8339, -2.2588, 0.8622;
+    normal.normalize();
+    const double radius = cw4d::max_radius(model);
+    std::vector<double> offsets(256);
+    for (std::size_t i = 0; i < offsets.size(); ++i)
+      offsets[i] = radius * (-0.95 + 1.9 * (static_cast<double>(i) + 0.5) / 256.0);
+    const cw4d::AffineTransform id = cw4d::AffineTransform::identity(4);
+    std::vector<cw4d::SliceBuffers> layers;
+    const bool sweep = mode == "sweep";
+    auto round = [&] {
+      if (sweep) {
+        slicer.sweep(compiled, normal, offsets, id, layers);
+      } else {
+        layers.resize(offsets.size());
+        for (std::size_t i = 0; i < offsets.size(); ++i)
+          slicer.slice(compiled, cw4d::Hyperplane::from(normal, offsets[i]), layers[i]);
+      }
+      sink += layers.size();
+    };
+    round();
+    for (int r = 0; r < rounds; ++r) round();
+  } else {
+    return usage();
+  }
+  std::printf("%zu\n", sink);
+  return 0;
+}
