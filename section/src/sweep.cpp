@@ -969,7 +969,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
         } else {
           for (std::uint32_t i = 0; i < cnt; ++i) {
             ids[at + cnt - 1 - i] = edge_index[loop[i] & ~kSweepFlip];
-            signs[at + cnt - 1 - i] = (loop[i] & kSweepFlip) ? 1 : -1;
+            signs[at + cnt - 1 - i] = static_cast<std::int8_t>(-loop_sign[i]);
           }
         }
         at += cnt;
