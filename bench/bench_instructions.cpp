@@ -33,7 +33,8 @@
 namespace {
 
 int usage() {
-  std::fprintf(stderr, "usage: bench_instructions slice|section|tet|sweep|sweep-slices MODEL ROUNDS\n");
+  std::fprintf(stderr,
+               "usage: bench_instructions slice|section|tet|sweep|sweep-slices MODEL ROUNDS\n");
   return 2;
 }
 

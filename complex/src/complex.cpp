@@ -26,8 +26,7 @@ const std::vector<std::uint32_t>& Incidence::no_rows_offsets() {
 
 bool Incidence::well_formed(std::size_t lower_count) const {
   if (offsets_.empty()) return ids_.empty() && signs_.empty();
-  if (offsets_.front() != 0 || offsets_.back() != ids_.size() ||
-      ids_.size() != signs_.size())
+  if (offsets_.front() != 0 || offsets_.back() != ids_.size() || ids_.size() != signs_.size())
     return false;
   if (std::adjacent_find(offsets_.begin(), offsets_.end(), std::greater<>()) != offsets_.end())
     return false;
