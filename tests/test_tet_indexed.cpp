@@ -473,11 +473,16 @@ TEST_CASE("tet slicer, indexed: an edge index out of range is noticed, not trust
     Model blocks{m.name + ", block vertices out of range", Complex(m.complex), m.mesh};
     for (auto& v : blocks.mesh.block_vertices) v += static_cast<std::uint32_t>(1u << 30);
     REQUIRE_FALSE(blocks.mesh.has_edge_index());
+    // Edge ends beyond the vertex count.
+    Model ends{m.name + ", edge ends out of range", Complex(m.complex), m.mesh};
+    for (auto& e : ends.mesh.edges) e[1] += static_cast<std::uint32_t>(1u << 30);
+    REQUIRE_FALSE(ends.mesh.has_edge_index());
     for (int trial = 0; trial < 12; ++trial) {
       const AffineTransform id = AffineTransform::identity(4);
       const Hyperplane plane = random_plane(m.mesh, id, rng);
       check_against_oracle(shrunk, plane, id);
       check_against_oracle(blocks, plane, id);
+      check_against_oracle(ends, plane, id);
     }
   }
 }

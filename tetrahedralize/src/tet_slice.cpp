@@ -313,8 +313,9 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
 // one pass writes the triangles through the 16-case table, turned by the table's combinatorial
 // orientation (the tetrahedra are positively oriented with their cell's normal, so no geometric
 // test is needed).
-// False (nothing written that is kept) when the index cannot be the tets' (an edge id or a block
-// vertex out of range): checks that keep a stale index from reading or writing out of bounds.
+// False (nothing written that is kept) when the index cannot be the tets' (an edge id, an edge's
+// end or a block vertex out of range): checks that keep a stale index from reading or writing
+// out of bounds.
 // An index whose entries are in range but stale (tets edited in place with their count kept) is
 // the caller's error (documented at slice_tets).
 bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
@@ -469,9 +470,11 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
   const double off2 = pr.offset[2];
 #endif
+  const auto nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
+    if (a >= nvtx || b >= nvtx) return false;  // an index that is not the tets' (never taken)
     const double u = s[a] / (s[a] - s[b]);
     const double* xa = P + 4 * std::size_t{a};
     const double* xb = P + 4 * std::size_t{b};
