@@ -66,9 +66,15 @@ new_bin="$new_build/bench/bench_compare"
 if [[ "${COUNT:-0}" == 1 ]]; then
   # Instructions per operation instead of times: (count at 3 rounds - count at 1) / 512.
   command -v valgrind >/dev/null || { echo "compare.sh: COUNT=1 needs valgrind" >&2; exit 2; }
-  count() {  # program mode model rounds
-    valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 >/dev/null |
-      awk '/ refs:/ { gsub(",", "", $NF); print $NF }'
+  count() {  # program mode model rounds: the instructions of the whole run
+    local err n
+    if ! err=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 >/dev/null); then
+      printf 'compare.sh: %s failed:\n%s\n' "$*" "$err" >&2
+      exit 2
+    fi
+    n=$(awk '/ refs:/ { gsub(",", "", $NF); print $NF }' <<<"$err")
+    [[ -n "$n" ]] || { printf 'compare.sh: no instruction count from %s\n' "$*" >&2; exit 2; }
+    echo "$n"
   }
   echo "# COUNT=1 bench/compare.sh $ref  ($(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet || echo '+dirty') vs $(git -C "$root" rev-parse --short "$ref"), instructions per operation, callgrind)"
   printf "%-28s %12s %12s %9s\n" "case" "old" "new" "old/new"

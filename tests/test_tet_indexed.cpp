@@ -477,12 +477,21 @@ TEST_CASE("tet slicer, indexed: an edge index out of range is noticed, not trust
     Model ends{m.name + ", edge ends out of range", Complex(m.complex), m.mesh};
     for (auto& e : ends.mesh.edges) e[1] += static_cast<std::uint32_t>(1u << 30);
     REQUIRE_FALSE(ends.mesh.has_edge_index());
+    // Blocks out of order, every other one all the tetrahedra again (overlapping: listed as they
+    // stand, more tetrahedra than the mesh has).
+    Model ranges{m.name + ", block ranges overlapping", Complex(m.complex), m.mesh};
+    std::vector<std::uint32_t>& bf = ranges.mesh.block_first;
+    const auto T = static_cast<std::uint32_t>(ranges.mesh.size());
+    for (std::size_t b = 0; b < bf.size(); ++b) bf[b] = b % 2 ? T : 0;
+    bf.back() = T;
+    REQUIRE_FALSE(ranges.mesh.has_edge_index());
     for (int trial = 0; trial < 12; ++trial) {
       const AffineTransform id = AffineTransform::identity(4);
       const Hyperplane plane = random_plane(m.mesh, id, rng);
       check_against_oracle(shrunk, plane, id);
       check_against_oracle(blocks, plane, id);
       check_against_oracle(ends, plane, id);
+      check_against_oracle(ranges, plane, id);
     }
   }
 }

@@ -314,8 +314,8 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
 // orientation (the tetrahedra are positively oriented with their cell's normal, so no geometric
 // test is needed).
 // False (nothing written that is kept) when the index cannot be the tets' (an edge id, an edge's
-// end or a block vertex out of range): checks that keep a stale index from reading or writing
-// out of bounds.
+// end, a block's range or a block vertex out of range): checks that keep a stale index from
+// reading or writing out of bounds.
 // An index whose entries are in range but stale (tets edited in place with their count kept) is
 // the caller's error (documented at slice_tets).
 bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
@@ -352,6 +352,8 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
     for (std::size_t b = 0; b < nblocks; ++b) {
       unsigned any = 0, all = 1;
+      // (Blocks in order within the tets: disjoint, so that no more than T are listed.)
+      if (bf[b] > bf[b + 1] || bf[b + 1] > T) return false;
       if (bvf[b] > bvf[b + 1] || bvf[b + 1] > nbv) return false;
       for (std::uint32_t j = bvf[b]; j < bvf[b + 1]; ++j) {
         if (bv[j] >= nvtx) return false;
