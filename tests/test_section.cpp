@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -22,6 +23,7 @@
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/section.hpp"
+#include "cw4d/section/slicer.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 #include "support/oracle.hpp"
@@ -170,6 +172,47 @@ TEST_CASE("oracle: the B-spline section volume matches the closed form for cubes
             Approx(test::cube_section_volume(u, t)).epsilon(1e-9));
     }
   }
+}
+
+TEST_CASE("section: a table naming elements that do not exist is refused, not read") {
+  // Each defect of one boundary table, and the rank the message must name.
+  struct Defect {
+    const char* what;
+    int rank;
+    std::function<void(Complex&)> apply;
+  };
+  const std::vector<Defect> defects = {
+      {"an edge end beyond the vertices", 1,
+       [](Complex& c) { c.boundary_mut(1).ids_mut(3)[1] = 1000000u; }},
+      {"a face edge beyond the edges", 2,
+       [](Complex& c) {
+         c.boundary_mut(2).ids_mut(5)[0] = static_cast<std::uint32_t>(c.count(1));
+       }},
+      {"a cell face beyond the faces", 3,
+       [](Complex& c) { c.boundary_mut(3).ids_mut(7)[2] = 4000000000u; }},
+      {"face offsets out of order", 2,
+       [](Complex& c) {
+         std::vector<std::uint32_t>& off = c.boundary_mut(2).storage().offsets;
+         std::swap(off[4], off[5]);
+       }},
+      {"a sign of 2", 3, [](Complex& c) { c.boundary_mut(3).signs_mut(0)[0] = 2; }},
+  };
+  const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0.3, 0.5, -0.7, 0.2), 0.05);
+  for (const Defect& d : defects) {
+    INFO(d.what);
+    Complex c = load_model("tesseract");
+    d.apply(c);
+    REQUIRE_FALSE(c.well_formed());
+    const std::string rank = "rank-" + std::to_string(d.rank) + " boundary table";
+    CHECK_THROWS_WITH(section(c, plane), Catch::Contains(rank));
+    CHECK_THROWS_AS(section(c, plane), InputError);
+    CHECK_THROWS_WITH(section_general(c, plane, AffineTransform::identity(4)),
+                      Catch::Contains(rank));
+    CHECK_THROWS_WITH(SliceModel(c), Catch::Contains(rank));
+  }
+  // The same model unharmed: still cut.
+  const Complex c = load_model("tesseract");
+  CHECK(section(c, plane).complex.count(2) > 0);
 }
 
 TEST_CASE("section: the tesseract cut by (1,1,1,1), 0 is a regular octahedron") {

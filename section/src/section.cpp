@@ -695,7 +695,23 @@ void check_section_input(const Complex& model, const Hyperplane& plane, const Af
                      std::to_string(n));
 }
 
+void check_tables(const Complex& model) {
+  for (int r = 1; r <= model.top_rank(); ++r)
+    if (!model.boundary(r).well_formed(model.count(r - 1)))
+      throw InputError("the model's rank-" + std::to_string(r) +
+                       " boundary table is malformed (an id beyond the " +
+                       std::to_string(model.count(r - 1)) + " elements of rank " +
+                       std::to_string(r - 1) +
+                       ", offsets out of order, or a sign other than +1/-1); validate() names it");
+}
+
 Section section_general(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+  check_section_input(model, plane, xf);
+  check_tables(model);
+  return general_cut(model, plane, xf);
+}
+
+Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
   check_section_input(model, plane, xf);
   const int n = model.ambient_dim();
   // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
@@ -871,11 +887,11 @@ Section section_placed(const Complex& model, const Hyperplane& plane, const Affi
     if (n < 2 || plane.dim() != n)  // (check_section_input's messages)
       check_section_input(model, plane, AffineTransform::identity(n));
   }
-  // The hot path when the model allows it (slicer.hpp); it falls back to section_general.
+  // The hot path when the model allows it (slicer.hpp); it falls back to the general cut.
   thread_local SectionScratch scratch;
   const auto [compiled, convex] = scratch.compiled(model);
   if (!compiled->fast())
-    return section_general(model, plane, xf ? *xf : AffineTransform::identity(model.ambient_dim()));
+    return general_cut(model, plane, xf ? *xf : AffineTransform::identity(model.ambient_dim()));
   if (xf)
     scratch.slicer.slice(*compiled, plane, *xf, scratch.buffers);
   else

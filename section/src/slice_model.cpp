@@ -82,6 +82,7 @@ std::atomic<std::uint64_t> next_serial{1};
 
 SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     : model_(&model), serial_(next_serial.fetch_add(1, std::memory_order_relaxed)) {
+  check_tables(model);
   const int n = model.ambient_dim();
   dim_ = n;
   top_ = model.top_rank();

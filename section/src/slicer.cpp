@@ -80,7 +80,7 @@ void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const Af
 
 void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
                            SliceBuffers& out) {
-  const Section sec = section_general(m.complex(), plane, xf);
+  const Section sec = general_cut(m.complex(), plane, xf);
   const Complex& c = sec.complex;
   out.dim = c.ambient_dim();
   out.plane = plane;

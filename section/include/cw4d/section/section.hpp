@@ -53,7 +53,10 @@ struct Section {
 /// plane containing a facet returns that facet as a solid. Coincident pieces cancel as chains.
 /// The model is compiled once per thread and state (Complex::revision()): after writing through
 /// a reference kept from a *_mut() accessor, call model.touch() before the next section().
-/// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
+/// \throw InputError when dimensions disagree, the model is not at least 2-dimensional, or a
+/// boundary table names an element that does not exist (ids out of range, offsets out of
+/// order: checked when the model is compiled). The other defects validate() reports (open
+/// cells, wrong orientations, ...) are not checked here.
 Section section(const Complex& model, const Hyperplane& plane,
                 const AffineTransform& model_to_world);
 Section section(const Complex& model, const Hyperplane& plane);

@@ -71,6 +71,8 @@ struct SliceModelOptions {
 /// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
 class SliceModel {
  public:
+  /// \throw InputError when a boundary table of `model` names an element that does not exist
+  /// (Incidence::well_formed fails: ids out of range, offsets out of order, signs not +-1).
   explicit SliceModel(const Complex& model, const SliceModelOptions& options = {});
 
   const Complex& complex() const { return *model_; }
