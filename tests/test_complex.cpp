@@ -476,6 +476,36 @@ TEST_CASE("validate: ids out of range", "[validate]") {
   }
 }
 
+TEST_CASE("validate: a table whose own arrays disagree is reported, its rows not read",
+          "[validate]") {
+  SECTION("offsets out of order") {
+    Complex c = make_cube(4);
+    std::vector<std::uint32_t>& off = c.boundary_mut(2).storage().offsets;
+    std::swap(off[4], off[5]);  // row 4 would end before it starts
+    const ValidationReport r = validate(c);
+    REQUIRE_FALSE(r.issues.empty());
+    CHECK(r.issues[0].rank == 2);
+    CHECK(r.issues[0].id == 4);  // row 4 ends (offset 5) before it starts (offset 4)
+    CHECK(contains(r.issues[0].what, "offsets out of order"));
+  }
+  SECTION("fewer signs than ids") {
+    Complex c = make_cube(4);
+    c.boundary_mut(3).storage().signs.pop_back();
+    const ValidationReport r = validate(c);
+    REQUIRE_FALSE(r.issues.empty());
+    CHECK(r.issues[0].rank == 3);
+    CHECK(contains(r.issues[0].what, "arrays disagree"));
+  }
+  SECTION("offsets ending past the ids") {
+    Complex c = make_cube(3);
+    c.boundary_mut(1).storage().offsets.back() += 5;
+    const ValidationReport r = validate(c);
+    REQUIRE_FALSE(r.issues.empty());
+    CHECK(r.issues[0].rank == 1);
+    CHECK(contains(r.issues[0].what, "arrays disagree"));
+  }
+}
+
 TEST_CASE("validate: repeated boundary entries", "[validate]") {
   SECTION("a cell lists a face twice") {
     Complex c = make_cube(4);

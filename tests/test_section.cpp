@@ -196,13 +196,21 @@ TEST_CASE("section: a table naming elements that do not exist is refused, not re
          std::swap(off[4], off[5]);
        }},
       {"a sign of 2", 3, [](Complex& c) { c.boundary_mut(3).signs_mut(0)[0] = 2; }},
+      {"an edge with one end", 1,
+       [](Complex& c) {
+         const Incidence::Storage t = c.boundary_mut(1).storage();
+         t.ids.pop_back();
+         t.signs.pop_back();
+         --t.offsets.back();
+       }},
+      {"a cell with an empty boundary", 3, [](Complex& c) { c.boundary_mut(3).add_row({}, {}); }},
   };
   const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0.3, 0.5, -0.7, 0.2), 0.05);
   for (const Defect& d : defects) {
     INFO(d.what);
     Complex c = load_model("tesseract");
     d.apply(c);
-    REQUIRE_FALSE(c.well_formed());
+    REQUIRE_FALSE(validate(c).ok());
     const std::string rank = "rank-" + std::to_string(d.rank) + " boundary table";
     CHECK_THROWS_WITH(section(c, plane), Catch::Contains(rank));
     CHECK_THROWS_AS(section(c, plane), InputError);

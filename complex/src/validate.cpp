@@ -42,6 +42,23 @@ struct Checker {
   bool check_rows(int rank) {
     const Incidence& t = c.boundary(rank);
     const std::size_t below = c.count(rank - 1);
+    // The table's own arrays first: rows are read through its offsets.
+    const std::vector<std::uint32_t>& off = t.offsets();
+    for (std::uint32_t x = 0; x < t.size(); ++x)
+      if (off[x] > off[x + 1]) {
+        add(rank, x,
+            "boundary offsets out of order (" + std::to_string(off[x]) + " then " +
+                std::to_string(off[x + 1]) + ")");
+        return false;
+      }
+    if (off.front() != 0 || off.back() != t.all_ids().size() ||
+        t.all_ids().size() != t.all_signs().size()) {
+      add(rank, 0,
+          "the table's arrays disagree (offsets from " + std::to_string(off.front()) + " to " +
+              std::to_string(off.back()) + ", " + std::to_string(t.all_ids().size()) + " ids, " +
+              std::to_string(t.all_signs().size()) + " signs)");
+      return false;
+    }
     bool ok = true;
     std::vector<std::uint32_t> sorted;
     for (std::uint32_t x = 0; x < t.size() && !full(); ++x) {

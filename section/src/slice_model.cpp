@@ -474,6 +474,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
     const Incidence& t = c.boundary(k);
     const Rank& r = ranks_[k];
     if (!r.model_id.empty() || t.size() != r.count || t.all_ids().size() != r.ids.size() ||
+        t.all_signs().size() != t.all_ids().size() ||
         !same(t.all_ids().data(), r.ids.data(), r.ids.size()))
       return false;
     if (k == 1) {  // still [tail, head] with signs [-1, +1] (branch-free passes)
