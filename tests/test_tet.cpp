@@ -418,6 +418,20 @@ TEST_CASE("tet: TetGen failures become MeshingError", "[tet][tetgen]") {
   CHECK_THROWS_AS(tetrahedralize(make_cube(5)), InputError);
 }
 
+TEST_CASE("tet: a model whose tables name missing elements is refused, not read", "[tet]") {
+  // Each defect also fails validate().
+  Complex face_beyond = make_cube(4);
+  face_beyond.boundary_mut(2).ids_mut(0)[0] = 999999u;
+  Complex cell_beyond = make_cube(4);
+  cell_beyond.boundary_mut(3).ids_mut(2)[1] = 999999u;
+  for (const Complex* c : {&face_beyond, &cell_beyond}) {
+    REQUIRE_FALSE(validate(*c).ok());
+    CHECK_THROWS_AS(tetrahedralize(*c), InputError);
+  }
+  CHECK_THROWS_WITH(tetrahedralize(face_beyond), Catch::Contains("rank-2 boundary table"));
+  CHECK_THROWS_WITH(tetrahedralize(cell_beyond), Catch::Contains("rank-3 boundary table"));
+}
+
 TEST_CASE("tet: box UVW maps each cell onto [0,1]^3 affinely", "[tet][uvw]") {
   const Complex m = load_model("tesseract", default_catalogue());
   const TetMesh mesh = tetrahedralize(m);

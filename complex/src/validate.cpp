@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
 
@@ -275,6 +276,33 @@ ValidationReport validate(const Complex& complex, const ValidateOptions& options
   Checker checker{complex, options, {}};
   checker.run();
   return std::move(checker.report);
+}
+
+void check_tables(const Complex& model) {
+  for (int r = 1; r <= model.top_rank(); ++r) {
+    const Incidence& t = model.boundary(r);
+    const std::string table = "the model's rank-" + std::to_string(r) + " boundary table";
+    if (!t.well_formed(model.count(r - 1)))
+      throw InputError(table + " is malformed (an id beyond the " +
+                       std::to_string(model.count(r - 1)) + " elements of rank " +
+                       std::to_string(r - 1) +
+                       ", offsets out of order, or a sign other than +1/-1); validate() names it");
+    // Rows the cuts read by position: an edge's two ends, every other element's first entry.
+    const std::vector<std::uint32_t>& off = t.offsets();
+    unsigned bad = 0;
+    if (r == 1) {
+      for (std::size_t e = 0; e < off.size(); ++e)
+        bad |= off[e] ^ static_cast<std::uint32_t>(2 * e);
+    } else {
+      for (std::size_t x = 0; x + 1 < off.size(); ++x)
+        bad |= static_cast<unsigned>(off[x] == off[x + 1]);
+    }
+    if (bad != 0)
+      throw InputError(table +
+                       (r == 1 ? " has an edge without exactly two ends"
+                               : " has an element with an empty boundary") +
+                       "; validate() names it");
+  }
 }
 
 }  // namespace cw4d

@@ -37,14 +37,8 @@ Section to_section_untested(const SliceBuffers& buffers);
 /// \throw InputError when dimensions disagree or the model is not at least 2-dimensional.
 void check_section_input(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);
 
-/// \throw InputError when a boundary table of the model is malformed (Incidence::well_formed:
-/// an id beyond the count of the rank below, offsets out of order, a sign other than +-1), which
-/// the cuts would read out of bounds. One pass over the tables: run where a model is compiled
-/// (SliceModel) or cut once (section_general), not per slice.
-void check_tables(const Complex& model);
-
-/// section_general without check_tables, for callers whose model was checked when it was
-/// compiled (section(), the slicer's general path).
+/// section_general without check_tables (validate.hpp), for callers whose model was checked
+/// when it was compiled (section(), the slicer's general path).
 Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);
 
 }  // namespace cw4d

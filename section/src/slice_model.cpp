@@ -16,6 +16,7 @@
 #include "cw4d/complex/fork_join.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/complex/validate.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
 

@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/complex/validate.hpp"
 #include "cw4d/section/triangulate.hpp"
 #include "cw4d/section/uvw.hpp"
 #include "tetgen_cell.hpp"
@@ -519,6 +520,7 @@ TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetSta
     throw InputError("tetrahedralize: the model has no 3-cells");
   if (!complex.has_facet_normals())
     throw InputError("tetrahedralize: the model has no outward facet normals (build it oriented)");
+  check_tables(complex);
   TetStats local_stats;
   TetStats& st = stats ? *stats : local_stats;
   st = {};

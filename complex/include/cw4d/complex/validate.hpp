@@ -37,4 +37,12 @@ struct ValidateOptions {
 /// require_closed: closed, coherent, outward facets and the solid's boundary.
 ValidationReport validate(const Complex& complex, const ValidateOptions& options = {});
 
+/// What the cuts and tetrahedralize check of a model before reading it, once per model (one
+/// pass over the tables, branch-free): every boundary table well formed (Incidence::well_formed:
+/// ids below the count of the rank beneath, offsets in order, signs +-1), every edge with
+/// exactly two ends and no element with an empty boundary. The other defects validate()
+/// reports are not checked.
+/// \throw InputError naming the first table that fails.
+void check_tables(const Complex& model);
+
 }  // namespace cw4d
