@@ -24,20 +24,25 @@ const std::vector<std::uint32_t>& Incidence::no_rows_offsets() {
   return offsets;
 }
 
-bool Incidence::well_formed(std::size_t lower_count) const {
+bool Incidence::rows_readable() const {
   if (offsets_.empty()) return ids_.empty() && signs_.empty();
   if (offsets_.front() != 0 || offsets_.back() != ids_.size() || ids_.size() != signs_.size())
     return false;
-  // Reductions without a branch per entry (the compiler vectorises them): a table is checked
-  // whenever a model is compiled for slicing.
-  unsigned down = 0;
+  unsigned down = 0;  // (a reduction without a branch per entry: the compiler vectorises it)
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     down |= static_cast<unsigned>(offsets_[i] > offsets_[i + 1]);
+  return down == 0;
+}
+
+bool Incidence::well_formed(std::size_t lower_count) const {
+  if (!rows_readable()) return false;
+  // Reductions without a branch per entry (the compiler vectorises them): a table is checked
+  // whenever a model is compiled for slicing.
   std::uint32_t top = 0;
   for (const std::uint32_t id : ids_) top = std::max(top, id);
   unsigned odd = 0;  // a sign other than -1 or +1: s + 1 other than 0 or 2
   for (const std::int8_t s : signs_) odd |= static_cast<std::uint8_t>(s + 1) & 0xFDu;
-  return down == 0 && odd == 0 && (ids_.empty() || top < lower_count);
+  return odd == 0 && (ids_.empty() || top < lower_count);
 }
 
 void Incidence::reserve(std::size_t rows, std::size_t entries) {

@@ -697,9 +697,8 @@ void check_section_input(const Complex& model, const Hyperplane& plane, const Af
 }
 
 Section section_general(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
-  check_section_input(model, plane, xf);
   check_tables(model);
-  return general_cut(model, plane, xf);
+  return general_cut(model, plane, xf);  // (which checks the dimensions)
 }
 
 Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {

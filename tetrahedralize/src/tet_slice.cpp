@@ -341,6 +341,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       ncut += kCut[mask];
     }
   };
+  const auto nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);  // the mesh's vertices
   const std::size_t nblocks = index.block_first.size() - 1;
   if (4 * nblocks <= T) {
     // Blocks of four or more tetrahedra on average (cells of many tetrahedra): a block whose
@@ -349,7 +350,6 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const std::uint32_t* bvf = index.block_vertex_first.data();
     const std::uint32_t* bv = index.block_vertices.data();
     const std::size_t nbv = index.block_vertices.size();
-    const std::uint32_t nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
     for (std::size_t b = 0; b < nblocks; ++b) {
       unsigned any = 0, all = 1;
       // (Blocks in order within the tets: disjoint, so that no more than T are listed.)
@@ -472,7 +472,6 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
   const double off2 = pr.offset[2];
 #endif
-  const auto nvtx = static_cast<std::uint32_t>(sc.up.size() / 4);
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];

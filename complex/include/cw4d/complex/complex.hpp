@@ -84,6 +84,9 @@ class Incidence {
   /// every sign is +1 or -1. For assert()s on data cw4d built itself; validate() checks data
   /// from outside and reports what is wrong.
   bool well_formed(std::size_t lower_count) const;
+  /// The part of well_formed that makes rows readable: offsets start with 0, never decrease and
+  /// end at entries() == the signs' length (or all three arrays are empty).
+  bool rows_readable() const;
 
  private:
   static const std::vector<std::uint32_t>& no_rows_offsets();
