@@ -5,7 +5,7 @@
 file(READ ${SITE}/index.html page)
 file(READ ${SITE}/cw4d_wasm.js core)
 set(modules "")
-foreach(m shaders renderer selftest viewer)
+foreach(m shaders renderer selftest math4 exporters library viewer)
   file(READ ${SITE}/js/${m}.js text)
   string(REGEX REPLACE "(^|\n)import [^\n]*;" "\\1" text "${text}")
   string(REGEX REPLACE "(^|\n)export " "\\1" text "${text}")

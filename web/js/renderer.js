@@ -1,6 +1,8 @@
 // WebGL2 drawing of a section: the CPU path (triangles from the WebAssembly core), the polygon
-// outlines, and the GPU tetrahedral path (shaders.js); an orbit camera; coverage readback.
-import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX } from './shaders.js';
+// outlines, the GPU tetrahedral path and the whole polytope's wireframe around the section
+// (shaders.js); an orbit camera; coverage readback.
+import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX, WIRE_VERTEX,
+  WIRE_FRAGMENT } from './shaders.js';
 
 export function perspective(fovy, aspect, near, far) {
   const f = 1 / Math.tan(fovy / 2), nf = 1 / (near - far);
@@ -69,8 +71,40 @@ export class Renderer {
     this.cpu = program(gl, CPU_VERTEX, FRAGMENT);
     this.line = program(gl, LINE_VERTEX, LINE_FRAGMENT);
     this.tet = program(gl, TET_VERTEX, FRAGMENT);
+    this.wire = program(gl, WIRE_VERTEX, WIRE_FRAGMENT);
     this.mesh = null;
     this.tets = null;
+    this.wires = null;
+  }
+
+  // Uploads the model's wireframe (the core's wireframe(): 4 numbers per vertex, vertex id
+  // pairs): one instance per edge holding both ends.
+  setWireframe(w) {
+    const gl = this.gl;
+    if (this.wires) {
+      gl.deleteBuffer(this.wires.buffer);
+      gl.deleteVertexArray(this.wires.vao);
+      this.wires = null;
+    }
+    if (!w || w.error || w.edges.length === 0) return;
+    const count = w.edges.length / 2;
+    const ends = new Float32Array(8 * count);
+    for (let e = 0; e < count; ++e)
+      for (let k = 0; k < 2; ++k) {
+        const v = w.edges[2 * e + k];
+        for (let j = 0; j < 4; ++j) ends[8 * e + 4 * k + j] = w.positions[4 * v + j];
+      }
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    const b = buffer(gl, gl.ARRAY_BUFFER, ends);
+    ['aP0', 'aP1'].forEach((name, k) => {
+      const loc = this.wire.a(name);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 4, gl.FLOAT, false, 32, 16 * k);
+      gl.vertexAttribDivisor(loc, 1);
+    });
+    gl.bindVertexArray(null);
+    this.wires = { vao, buffer: b, count };
   }
 
   // Uploads a slice of the core (positions, normals, colours, uvw, indices, outline).
@@ -141,7 +175,8 @@ export class Renderer {
   }
 
   // view: {yaw, pitch, distance, radius}; opts: {gpu, edges, cellColours, backFaces, texture,
-  // mask, placement (Float32Array 16 + 4), normal (4), offset, basis (Float32Array 12)}.
+  // mask, placement (Float32Array 16 + 4), normal (4), offset, basis (Float32Array 12),
+  // whole ('shadow', 'persp' or 'off'), slab (> 0: the half-width of a thick slice)}.
   draw(view, opts, target = null) {
     const gl = this.gl;
     const w = target ? target.width : this.canvas.width;
@@ -164,17 +199,21 @@ export class Renderer {
       gl.uniform1i(prog.u.uMask, opts.mask ? 1 : 0);
       gl.uniform1f(prog.u.uChecks, 4.0);
     };
+    // The placement and the hyperplane, for the programs that work in 4D.
+    const place = (u) => {
+      const pl = opts.placement;
+      gl.uniformMatrix4fv(u.uLinear, false, pl.subarray(0, 16));
+      gl.uniform4fv(u.uTranslation, pl.subarray(16, 20));
+      gl.uniform4fv(u.uPlaneNormal, opts.normal);
+      gl.uniform1f(u.uPlaneOffset, opts.offset);
+      const b = opts.basis, basis = new Float32Array(16);
+      for (let c = 0; c < 3; ++c) for (let r = 0; r < 4; ++r) basis[4 * c + r] = b[4 * c + r] ?? 0;
+      gl.uniformMatrix4fv(u.uBasis, false, basis);
+    };
     if (opts.gpu) {
       if (this.tets) {
         shade(this.tet);
-        const u = this.tet.u, pl = opts.placement;
-        gl.uniformMatrix4fv(u.uLinear, false, pl.subarray(0, 16));
-        gl.uniform4fv(u.uTranslation, pl.subarray(16, 20));
-        gl.uniform4fv(u.uPlaneNormal, opts.normal);
-        gl.uniform1f(u.uPlaneOffset, opts.offset);
-        const b = opts.basis, basis = new Float32Array(16);
-        for (let c = 0; c < 3; ++c) for (let r = 0; r < 4; ++r) basis[4 * c + r] = b[4 * c + r];
-        gl.uniformMatrix4fv(u.uBasis, false, basis);
+        place(this.tet.u);
         gl.bindVertexArray(this.tets.vao);
         gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, this.tets.count);
       }
@@ -183,13 +222,32 @@ export class Renderer {
       gl.bindVertexArray(this.mesh.vao);
       gl.drawElements(gl.TRIANGLES, this.mesh.count, gl.UNSIGNED_INT, 0);
     }
-    if (opts.edges && this.mesh && !opts.mask) {
+    if (opts.edges && this.mesh && !opts.mask && !opts.gpu) {  // (the GPU path has no outline)
       gl.useProgram(this.line.p);
       gl.uniformMatrix4fv(this.line.u.uProjection, false, proj);
       gl.uniformMatrix4fv(this.line.u.uView, false, mv);
       gl.uniform4fv(this.line.u.uColour, [0.05, 0.05, 0.06, 1]);
       gl.bindVertexArray(this.mesh.lineVao);
       gl.drawArrays(gl.LINES, 0, this.mesh.lines);
+    }
+    // The whole polytope: blended over the section, hidden behind it, writing no depth.
+    if (opts.whole && opts.whole !== 'off' && this.wires && !opts.mask) {
+      const u = this.wire.u;
+      gl.useProgram(this.wire.p);
+      gl.uniformMatrix4fv(u.uProjection, false, proj);
+      gl.uniformMatrix4fv(u.uView, false, mv);
+      place(u);
+      gl.uniform1i(u.uMode, opts.whole === 'persp' ? 1 : 0);
+      gl.uniform1f(u.uEye, 3 * view.radius);
+      gl.uniform1f(u.uFade, view.radius);
+      gl.uniform1f(u.uSlab, opts.slab > 0 ? opts.slab : 0);
+      gl.enable(gl.BLEND);
+      gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
+      gl.depthMask(false);
+      gl.bindVertexArray(this.wires.vao);
+      gl.drawArraysInstanced(gl.LINES, 0, 2, this.wires.count);
+      gl.depthMask(true);
+      gl.disable(gl.BLEND);
     }
     gl.bindVertexArray(null);
   }

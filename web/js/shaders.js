@@ -22,7 +22,10 @@ void main() {
   float diffuse = max(dot(n, light), 0.0);
   vec3 base = uCellColours ? vColour : vec3(0.78, 0.80, 0.84);
   if (uTexture) {
-    vec3 c = floor(vUvw * uChecks);
+    // A sample within a thousandth of a check of a lattice plane counts as on its upper side,
+    // as in the native renderer: a section lying exactly on a check boundary (the tesseract
+    // cut at w = 0) takes one side everywhere instead of speckling with rounding noise.
+    vec3 c = floor(vUvw * uChecks + 1e-3);
     float parity = mod(c.x + c.y + c.z, 2.0);
     base *= mix(0.62, 1.0, parity);
   }
@@ -152,4 +155,64 @@ void main() {
   int c = order[v];
   vUvw = t[c];
   gl_Position = uProjection * uView * vec4(q[c], 1.0);
+}`;
+
+
+// The whole polytope around its section: every edge of the placed model, one instance per edge
+// (its two model-space ends), drawn in the section's 3D coordinates. A point x of the world
+// has the signed distance s = n.x - d to the hyperplane and the plane coordinates
+// y = B^T (x - d n); "shadow" draws it at y (the projection along the normal, as 4D Golf shows
+// what lies off the slice), "perspective" at y e / (e - s), seen from an eye on the normal at
+// distance e (nearer parts larger). Either way the section (s = 0) sits exactly inside the
+// wireframe. Colours: warm on the positive side, cool on the negative side, bright where an
+// edge crosses the hyperplane, faded with the distance |s|; a slab |s| <= uSlab (when > 0)
+// keeps only the parts near the hyperplane (a thick slice).
+export const WIRE_VERTEX = `#version 300 es
+in vec4 aP0;
+in vec4 aP1;
+uniform mat4 uLinear;
+uniform vec4 uTranslation;
+uniform vec4 uPlaneNormal;
+uniform float uPlaneOffset;
+uniform mat4 uBasis;
+uniform mat4 uProjection;
+uniform mat4 uView;
+uniform int uMode;     // 0: shadow, 1: 4D perspective
+uniform float uEye;    // perspective: the eye's distance from the hyperplane
+out float vS;
+out float vCrossing;
+void main() {
+  vec4 x0 = uLinear * aP0 + uTranslation;
+  vec4 x1 = uLinear * aP1 + uTranslation;
+  float s0 = dot(uPlaneNormal, x0) - uPlaneOffset;
+  float s1 = dot(uPlaneNormal, x1) - uPlaneOffset;
+  vec4 x = gl_VertexID == 0 ? x0 : x1;
+  float s = gl_VertexID == 0 ? s0 : s1;
+  vec3 y = (transpose(uBasis) * (x - uPlaneOffset * uPlaneNormal)).xyz;
+  if (uMode == 1) y *= uEye / max(uEye - s, 1e-3 * uEye);
+  vS = s;
+  vCrossing = (s0 < 0.0) != (s1 < 0.0) ? 1.0 : 0.0;
+  vec4 p = uProjection * uView * vec4(y, 1.0);
+  p.z -= 0.0002 * p.w;
+  gl_Position = p;
+}`;
+
+export const WIRE_FRAGMENT = `#version 300 es
+precision highp float;
+in float vS;
+in float vCrossing;
+uniform float uFade;   // the distance over which an edge fades to its faintest
+uniform float uSlab;   // > 0: only |s| <= uSlab is drawn
+out vec4 fragColour;
+void main() {
+  float a = abs(vS);
+  if (uSlab > 0.0 && a > uSlab) discard;
+  vec3 warm = vec3(1.0, 0.62, 0.32), cool = vec3(0.42, 0.66, 1.0);
+  vec3 colour = vS >= 0.0 ? warm : cool;
+  float alpha = mix(0.85, 0.12, clamp(a / uFade, 0.0, 1.0));
+  if (vCrossing > 0.5) {
+    colour = mix(vec3(1.0, 0.95, 0.6), colour, clamp(a / (0.25 * uFade), 0.0, 1.0));
+    alpha = max(alpha, 0.9 - 0.6 * clamp(a / uFade, 0.0, 1.0));
+  }
+  fragColour = vec4(colour * alpha, alpha);
 }`;

@@ -25,6 +25,7 @@
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/complex/wythoff.hpp"
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
@@ -219,6 +220,73 @@ class WebModel {
       return "";
     } catch (const std::exception& e) {
       return e.what();
+    }
+  }
+
+  /// The placement as a matrix: `linear` holds n*n numbers row by row (x_world = L x_model +
+  /// t), `translation` n numbers or []. The viewer composes its 4D rotations itself (rotations
+  /// relative to the screen) and hands the product here. Returns "" or the error line.
+  std::string set_matrix(const val& linear, const val& translation) {
+    try {
+      if (!model_) return "no model loaded";
+      const int n = model_->ambient_dim();
+      const std::vector<double> l = to_doubles(linear);
+      if (static_cast<int>(l.size()) != n * n)
+        return "the placement needs " + std::to_string(n * n) + " numbers, got " +
+               std::to_string(l.size());
+      Eigen::MatrixXd m(n, n);
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+          const double x = l[static_cast<std::size_t>(r * n + c)];
+          if (!std::isfinite(x)) return "the placement has a number that is not finite";
+          m(r, c) = x;
+        }
+      if (!(std::abs(m.determinant()) > 1e-9)) return "the placement is singular";
+      Eigen::VectorXd t = Eigen::VectorXd::Zero(n);
+      const std::vector<double> tv = to_doubles(translation);
+      if (!tv.empty()) {
+        if (static_cast<int>(tv.size()) != n)
+          return "translation needs " + std::to_string(n) + " components";
+        for (int r = 0; r < n; ++r) {
+          if (!std::isfinite(tv[static_cast<std::size_t>(r)]))
+            return "the translation has a number that is not finite";
+          t[r] = tv[static_cast<std::size_t>(r)];
+        }
+      }
+      placement_ = AffineTransform(m, t);
+      inverse_ = placement_.inverse();
+      return "";
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+
+  /// The model's wireframe in model space, for the whole-polytope view drawn around the
+  /// section: vertex positions padded to 4 numbers each (a 3D model gets w = 0) and the edges
+  /// as pairs of vertex ids.
+  val wireframe() const {
+    try {
+      if (!model_) return error_object("no model loaded");
+      const Complex& m = *model_;
+      const int n = m.ambient_dim();
+      std::vector<float> pos(static_cast<std::size_t>(m.count(0)) * 4, 0.0f);
+      for (std::uint32_t v = 0; v < m.count(0); ++v) {
+        const auto p = m.position(v);
+        for (int j = 0; j < n && j < 4; ++j) pos[4 * v + static_cast<std::size_t>(j)] = static_cast<float>(p[j]);
+      }
+      std::vector<std::uint32_t> edges;
+      edges.reserve(static_cast<std::size_t>(m.count(1)) * 2);
+      for (std::uint32_t e = 0; e < m.count(1); ++e) {
+        const auto ids = m.edge(e);
+        edges.push_back(ids[0]);
+        edges.push_back(ids[1]);
+      }
+      val out = val::object();
+      out.set("positions", copy_array(pos));
+      out.set("edges", copy_array(edges));
+      return out;
+    } catch (const std::exception& e) {
+      return error_object(e.what());
     }
   }
 
@@ -573,6 +641,39 @@ val catalogue() {
   return out;
 }
 
+/// The viewer's library: [{group, name, spec, diagram}] — the regular polychora, the convex
+/// uniform ones by name with their Coxeter diagrams, the regular star and named non-convex
+/// uniform ones (star_polychoron_names), each spec one that load_model accepts.
+val library() {
+  val out = val::array();
+  const auto add = [&](const std::string& group, const std::string& name, const std::string& spec,
+                       const std::string& diagram) {
+    val e = val::object();
+    e.set("group", group);
+    e.set("name", name);
+    e.set("spec", spec);
+    e.set("diagram", diagram);
+    out.call<void>("push", e);
+  };
+  const char* bases[] = {"5-cell", "tesseract", "16-cell", "24-cell", "120-cell", "600-cell"};
+  for (const char* b : bases)
+    add("regular", b, b, uniform_polychoron_diagram(b).value_or(""));
+  const char* operations[] = {"truncated",      "rectified",       "bitruncated",
+                              "cantellated",    "runcinated",      "cantitruncated",
+                              "runcitruncated", "omnitruncated"};
+  for (const char* b : bases)
+    for (const char* op : operations) {
+      const std::string name = std::string(op) + " " + b;
+      if (const auto d = uniform_polychoron_diagram(name)) add("convex uniform", name, name, *d);
+    }
+  // star_polychoron_names() lists the ten regular star polychora first.
+  const auto& stars = star_polychoron_names();
+  for (std::size_t i = 0; i < stars.size(); ++i)
+    add(i < 10 ? "regular star" : "non-convex uniform", stars[i].name, stars[i].name,
+        stars[i].diagram);
+  return out;
+}
+
 /// The viewer's colours of cells 0 .. count-1 (r, g, b each), for buffers made elsewhere.
 val cell_palette(double count) {
   std::vector<float> out;
@@ -593,6 +694,8 @@ EMSCRIPTEN_BINDINGS(cw4d) {
       .function("loadOff", &WebModel::load_off)
       .function("info", &WebModel::info)
       .function("setPlacement", &WebModel::set_placement)
+      .function("setMatrix", &WebModel::set_matrix)
+      .function("wireframe", &WebModel::wireframe)
       .function("placement", &WebModel::placement)
       .function("slice", &WebModel::slice)
       .function("sweep", &WebModel::sweep)
@@ -600,5 +703,6 @@ EMSCRIPTEN_BINDINGS(cw4d) {
       .function("tets", &WebModel::tets)
       .function("planeBasis", &WebModel::plane_basis);
   emscripten::function("catalogue", &cw4d::web::catalogue);
+  emscripten::function("library", &cw4d::web::library);
   emscripten::function("cellPalette", &cw4d::web::cell_palette);
 }
