@@ -272,7 +272,8 @@ class WebModel {
       std::vector<float> pos(static_cast<std::size_t>(m.count(0)) * 4, 0.0f);
       for (std::uint32_t v = 0; v < m.count(0); ++v) {
         const auto p = m.position(v);
-        for (int j = 0; j < n && j < 4; ++j) pos[4 * v + static_cast<std::size_t>(j)] = static_cast<float>(p[j]);
+        for (int j = 0; j < n && j < 4; ++j)
+          pos[4 * v + static_cast<std::size_t>(j)] = static_cast<float>(p[j]);
       }
       std::vector<std::uint32_t> edges;
       edges.reserve(static_cast<std::size_t>(m.count(1)) * 2);
@@ -656,11 +657,9 @@ val library() {
     out.call<void>("push", e);
   };
   const char* bases[] = {"5-cell", "tesseract", "16-cell", "24-cell", "120-cell", "600-cell"};
-  for (const char* b : bases)
-    add("regular", b, b, uniform_polychoron_diagram(b).value_or(""));
-  const char* operations[] = {"truncated",      "rectified",       "bitruncated",
-                              "cantellated",    "runcinated",      "cantitruncated",
-                              "runcitruncated", "omnitruncated"};
+  for (const char* b : bases) add("regular", b, b, uniform_polychoron_diagram(b).value_or(""));
+  const char* operations[] = {"truncated",  "rectified",      "bitruncated",    "cantellated",
+                              "runcinated", "cantitruncated", "runcitruncated", "omnitruncated"};
   for (const char* b : bases)
     for (const char* op : operations) {
       const std::string name = std::string(op) + " " + b;
