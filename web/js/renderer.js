@@ -1,7 +1,7 @@
 // WebGL2 drawing of a section: the CPU path (triangles from the WebAssembly core), the polygon
 // outlines, the GPU tetrahedral path and the whole polytope's wireframe around the section
 // (shaders.js); an orbit camera; coverage readback.
-import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX, WIRE_VERTEX,
+import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX, TETS_PER_ROW, WIRE_VERTEX,
   WIRE_FRAGMENT } from './shaders.js';
 
 export function perspective(fovy, aspect, near, far) {
@@ -72,6 +72,7 @@ export class Renderer {
     this.line = program(gl, LINE_VERTEX, LINE_FRAGMENT);
     this.tet = program(gl, TET_VERTEX, FRAGMENT);
     this.wire = program(gl, WIRE_VERTEX, WIRE_FRAGMENT);
+    this.emptyVao = gl.createVertexArray();  // the GPU path reads no attributes
     this.mesh = null;
     this.tets = null;
     this.wires = null;
@@ -144,34 +145,35 @@ export class Renderer {
     this.mesh = null;
   }
 
-  // Uploads the tetrahedra of the core (tets()): one instance each.
+  // Uploads the tetrahedra of the core (tets()) into the GPU path's float texture (shaders.js:
+  // nine texels per tetrahedron). Returns an error line when the GPU cannot hold them.
   setTets(t) {
     const gl = this.gl;
     if (this.tets) {
-      this.tets.buffers.forEach((b) => gl.deleteBuffer(b));
-      gl.deleteVertexArray(this.tets.vao);
+      gl.deleteTexture(this.tets.texture);
       this.tets = null;
     }
-    if (!t || t.error || t.count === 0) return;
-    const vao = gl.createVertexArray();
-    gl.bindVertexArray(vao);
-    const buffers = [];
-    const attach = (data, size, stride, names) => {
-      buffers.push(buffer(gl, gl.ARRAY_BUFFER, data));
-      names.forEach((name, k) => {
-        const loc = this.tet.a(name);
-        if (loc < 0) return;
-        gl.enableVertexAttribArray(loc);
-        gl.vertexAttribPointer(loc, size, gl.FLOAT, false, stride * 4, k * size * 4);
-        gl.vertexAttribDivisor(loc, 1);
-      });
-    };
-    attach(t.corners, 4, 16, ['aC0', 'aC1', 'aC2', 'aC3']);
-    attach(t.uvw, 3, 12, ['aT0', 'aT1', 'aT2', 'aT3']);
-    attach(t.normals, 4, 4, ['aCellNormal']);
-    attach(t.colours, 3, 3, ['aColour']);
-    gl.bindVertexArray(null);
-    this.tets = { vao, buffers, count: t.count };
+    if (!t || t.error || t.count === 0) return '';
+    const rows = Math.ceil(t.count / TETS_PER_ROW), width = 9 * TETS_PER_ROW;
+    if (rows > gl.getParameter(gl.MAX_TEXTURE_SIZE))
+      return `${t.count} tetrahedra need a ${width} x ${rows} texture, more than this GPU's ` +
+        `${gl.getParameter(gl.MAX_TEXTURE_SIZE)}`;
+    const data = new Float32Array(width * rows * 4);
+    for (let k = 0; k < t.count; ++k) {
+      const at = 36 * k;  // 9 texels of 4 floats
+      data.set(t.corners.subarray(16 * k, 16 * k + 16), at);
+      data.set(t.uvw.subarray(12 * k, 12 * k + 12), at + 16);
+      data.set(t.normals.subarray(4 * k, 4 * k + 4), at + 28);
+      data.set(t.colours.subarray(3 * k, 3 * k + 3), at + 32);
+    }
+    const texture = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, width, rows, 0, gl.RGBA, gl.FLOAT, data);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    this.tets = { texture, count: t.count };
+    return '';
   }
 
   // view: {yaw, pitch, distance, radius}; opts: {gpu, edges, cellColours, backFaces, texture,
@@ -209,13 +211,23 @@ export class Renderer {
       const b = opts.basis, basis = new Float32Array(16);
       for (let c = 0; c < 3; ++c) for (let r = 0; r < 4; ++r) basis[4 * c + r] = b[4 * c + r] ?? 0;
       gl.uniformMatrix4fv(u.uBasis, false, basis);
+      if (u.uModelNormal) {
+        // L^T n and d - n . t: the plane in model space.
+        const m = [0, 1, 2, 3].map((j) => [0, 1, 2, 3].reduce((sum, i) => sum + pl[4 * j + i] * opts.normal[i], 0));
+        gl.uniform4fv(u.uModelNormal, m);
+        gl.uniform1f(u.uModelOffset, opts.offset - [0, 1, 2, 3].reduce((sum, i) => sum + opts.normal[i] * pl[16 + i], 0));
+      }
     };
     if (opts.gpu) {
       if (this.tets) {
         shade(this.tet);
         place(this.tet.u);
-        gl.bindVertexArray(this.tets.vao);
-        gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, this.tets.count);
+        gl.activeTexture(gl.TEXTURE0);
+        gl.bindTexture(gl.TEXTURE_2D, this.tets.texture);
+        gl.uniform1i(this.tet.u.uTets, 0);
+        gl.bindVertexArray(this.emptyVao);
+        gl.drawArrays(gl.TRIANGLES, 0, 6 * this.tets.count);
+        gl.bindTexture(gl.TEXTURE_2D, null);
       }
     } else if (this.mesh) {
       shade(this.cpu);

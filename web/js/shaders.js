@@ -65,30 +65,30 @@ uniform vec4 uColour;
 out vec4 fragColour;
 void main() { fragColour = uColour; }`;
 
-// The GPU tetrahedral path: one instance per tetrahedron, its four corners (model space) and
-// their UVW as instanced attributes, six vertices per instance (two triangles). Every vertex of
-// an instance places the corners in the world (x = L p + t), takes their signed distances to
-// the plane n.x = d (a corner on the plane counts as positive, as in the CPU section), and
-// picks its point of the sign case: one corner apart -> the triangle on its three edges (the
-// second triangle collapses to a point); two and two -> the quadrilateral on the four crossing
-// edges; all on one side -> every vertex at one point (zero area, nothing drawn). Points are
-// written in the plane's basis (section coordinates, like the CPU path), and each triangle is
-// wound so that its normal agrees with the cell's outward normal projected into the plane.
+// The GPU tetrahedral path: six vertices per tetrahedron (two triangles), drawn without
+// instancing: vertex k belongs to tetrahedron k / 6, whose data it reads from a float texture
+// (nine RGBA texels per tetrahedron, TETS_PER_ROW to a row: its four corners in model space,
+// their UVW packed into three texels, the cell's outward normal, the cell's colour). Software
+// GL (SwiftShader) runs instanced draws one instance at a time; one plain draw lets it shade
+// vertices in wide batches. Every vertex of a tetrahedron takes the corners' signed distances
+// to the plane n.x = d (a corner on the plane counts as positive, as in the CPU section); on
+// one side, all six collapse to one point (zero area, nothing drawn). Otherwise it places the
+// corners in the world (x = L p + t) and picks its point of the sign case: one corner apart ->
+// the triangle on its three edges (the second triangle collapses to a point); two and two ->
+// the quadrilateral on the four crossing edges. Points are written in the plane's basis
+// (section coordinates, like the CPU path), and each triangle is wound so that its normal agrees
+// with the cell's outward normal projected into the plane.
+export const TETS_PER_ROW = 455;  // 9 texels each: 4095 texels per row
 export const TET_VERTEX = `#version 300 es
-in vec4 aC0;
-in vec4 aC1;
-in vec4 aC2;
-in vec4 aC3;
-in vec3 aT0;
-in vec3 aT1;
-in vec3 aT2;
-in vec3 aT3;
-in vec4 aCellNormal;
-in vec3 aColour;
+precision highp float;
+precision highp sampler2D;
+uniform sampler2D uTets;
 uniform mat4 uLinear;      // placement: x_world = uLinear * x_model + uTranslation
 uniform vec4 uTranslation;
 uniform vec4 uPlaneNormal;  // unit
 uniform float uPlaneOffset;
+uniform vec4 uModelNormal;  // the plane in model space: uLinear^T n . x = d - n . uTranslation
+uniform float uModelOffset;
 uniform mat4 uBasis;        // columns 0..2: the plane's orthonormal basis, column 3: zero
 uniform mat4 uProjection;
 uniform mat4 uView;
@@ -109,48 +109,65 @@ void crossing(int i, int j, out vec3 y, out vec3 uvw) {
 }
 
 void main() {
-  P[0] = uLinear * aC0 + uTranslation;
-  P[1] = uLinear * aC1 + uTranslation;
-  P[2] = uLinear * aC2 + uTranslation;
-  P[3] = uLinear * aC3 + uTranslation;
-  T[0] = aT0; T[1] = aT1; T[2] = aT2; T[3] = aT3;
+  int tet = gl_VertexID / 6;
+  int v = gl_VertexID - 6 * tet;
+  ivec2 at = ivec2(9 * (tet % ${TETS_PER_ROW}), tet / ${TETS_PER_ROW});
+  vec4 c0 = texelFetch(uTets, at, 0);
+  vec4 c1 = texelFetch(uTets, at + ivec2(1, 0), 0);
+  vec4 c2 = texelFetch(uTets, at + ivec2(2, 0), 0);
+  vec4 c3 = texelFetch(uTets, at + ivec2(3, 0), 0);
+  // The signed distances with the plane taken into model space (four dot products, no
+  // transform): most tetrahedra lie on one side and stop here, before any other work.
+  S[0] = dot(uModelNormal, c0) - uModelOffset;
+  S[1] = dot(uModelNormal, c1) - uModelOffset;
+  S[2] = dot(uModelNormal, c2) - uModelOffset;
+  S[3] = dot(uModelNormal, c3) - uModelOffset;
+  int nUp = int(S[0] >= 0.0) + int(S[1] >= 0.0) + int(S[2] >= 0.0) + int(S[3] >= 0.0);
+  if (nUp == 0 || nUp == 4) {
+    vNormal = vec3(0.0, 0.0, 1.0);
+    vColour = vec3(0.0);
+    vUvw = vec3(0.0);
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // every vertex here: a zero-area triangle
+    return;
+  }
+  P[0] = uLinear * c0 + uTranslation;
+  P[1] = uLinear * c1 + uTranslation;
+  P[2] = uLinear * c2 + uTranslation;
+  P[3] = uLinear * c3 + uTranslation;
+  vec4 t0 = texelFetch(uTets, at + ivec2(4, 0), 0);
+  vec4 t1 = texelFetch(uTets, at + ivec2(5, 0), 0);
+  vec4 t2 = texelFetch(uTets, at + ivec2(6, 0), 0);
+  vec4 cellNormal4 = texelFetch(uTets, at + ivec2(7, 0), 0);
+  vec3 colour = texelFetch(uTets, at + ivec2(8, 0), 0).rgb;
+  T[0] = t0.xyz; T[1] = vec3(t0.w, t1.xy); T[2] = vec3(t1.zw, t2.x); T[3] = t2.yzw;
   int up[4];
   int down[4];
-  int nUp = 0, nDown = 0;
+  nUp = 0;
+  int nDown = 0;
   for (int i = 0; i < 4; ++i) {
-    S[i] = dot(uPlaneNormal, P[i]) - uPlaneOffset;
     if (S[i] >= 0.0) up[nUp++] = i; else down[nDown++] = i;
   }
   vec3 q[4];
   vec3 t[4];
-  int corners = 0;
   if (nUp == 1 || nUp == 3) {
     int lone = nUp == 1 ? up[0] : down[0];
     int k = 0;
     for (int i = 0; i < 4; ++i)
       if (i != lone) { crossing(lone, i, q[k], t[k]); ++k; }
     q[3] = q[2]; t[3] = t[2];
-    corners = 3;
-  } else if (nUp == 2) {
+  } else {
     crossing(up[0], down[0], q[0], t[0]);
     crossing(up[0], down[1], q[1], t[1]);
     crossing(up[1], down[1], q[2], t[2]);
     crossing(up[1], down[0], q[3], t[3]);
-    corners = 4;
   }
   // The cell's normal (a direction: no translation) projected into the plane's basis.
-  vec3 cellNormal = (transpose(uBasis) * (uLinear * aCellNormal)).xyz;
-  vColour = aColour;
+  vec3 cellNormal = (transpose(uBasis) * (uLinear * cellNormal4)).xyz;
+  vColour = colour;
   vNormal = mat3(uView) * normalize(cellNormal);
-  if (corners == 0) {
-    vUvw = vec3(0.0);
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // every vertex here: a zero-area triangle
-    return;
-  }
   // Triangles (0,1,2) and (0,2,3); for a triangle case the second one is (q0,q2,q2).
   int order[6] = int[6](0, 1, 2, 0, 2, 3);
   bool flip = dot(cross(q[1] - q[0], q[2] - q[0]), cellNormal) < 0.0;
-  int v = gl_VertexID;
   if (flip) v = v == 1 ? 2 : (v == 2 ? 1 : (v == 4 ? 5 : (v == 5 ? 4 : v)));
   int c = order[v];
   vUvw = t[c];

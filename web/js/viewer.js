@@ -425,7 +425,11 @@ export async function start(createCw4d, config = {}) {
     applyPlacement();
     showPicked();
     writeUrl();
-    invalidate();
+    // The first picture now, not at the next animation frame (a page opened by a script or
+    // printed has it at once).
+    if (frame) cancelAnimationFrame(frame);
+    sliceDirty = true;
+    render(performance.now());
     hook.ready = false;
     requestAnimationFrame(() => requestAnimationFrame(() => (hook.ready = true)));
   };
@@ -433,9 +437,9 @@ export async function start(createCw4d, config = {}) {
     if (!info || info.dim !== 4) return null;
     if (!tets) {
       const t = model.tets();
-      tets = t.error ? null : t;
-      if (t.error) status(t.error, true, 'gpu');
-      renderer.setTets(tets);
+      const err = t.error || renderer.setTets(t);
+      tets = err ? null : t;
+      if (err) status(`GPU path: ${err}`, true, 'gpu');
     }
     return tets;
   };
@@ -710,7 +714,8 @@ export async function start(createCw4d, config = {}) {
       if (header.cells !== info.fvector[3])
         throw new Error(`${json.name} holds ${header.cells} cells, the model has ${info.fvector[3]}`);
       tets = tetsFromBuffer(header, await bin.arrayBuffer(), core.cellPalette(header.cells));
-      renderer.setTets(tets);
+      const err = renderer.setTets(tets);
+      if (err) throw new Error(err);
       setGpu(true);
       status(`GPU path: ${tets.count} tetrahedra from ${bin.name}`);
     } catch (err) {
