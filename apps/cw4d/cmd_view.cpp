@@ -1,16 +1,28 @@
 // cw4d view: one self-contained HTML file (the viewer of web/, its WebAssembly core and scripts
 // inlined) showing a model, to open from disk with no server.
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <system_error>
+#include <vector>
 
 #include "cli.hpp"
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/off_io.hpp"
 
-#ifndef CW4D_VIEW_TEMPLATE
-#define CW4D_VIEW_TEMPLATE ""
+// Where the viewer page is looked for (apps/CMakeLists.txt): CW4D_VIEW_INSTALL_DIR relative to
+// the executable's directory (../share/cw4d in an installed prefix); CW4D_VIEW_BUILD_TEMPLATE (the
+// web build's page) only when the executable is the one in CW4D_VIEW_BUILD_EXE_DIR.
+#ifndef CW4D_VIEW_INSTALL_DIR
+#define CW4D_VIEW_INSTALL_DIR "../share/cw4d"
+#endif
+#ifndef CW4D_VIEW_BUILD_TEMPLATE
+#define CW4D_VIEW_BUILD_TEMPLATE ""
+#endif
+#ifndef CW4D_VIEW_BUILD_EXE_DIR
+#define CW4D_VIEW_BUILD_EXE_DIR ""
 #endif
 
 namespace cw4d::cli {
@@ -21,10 +33,37 @@ struct ViewSettings {
   Placement placement;
   double offset = 0.0;
   std::string output;
-  std::string templ = CW4D_VIEW_TEMPLATE;
+  std::string templ;  // --template; empty: found by find_template
 };
 
 constexpr std::string_view kMarker = "/*cw4d:config*/{}";
+constexpr std::string_view kPageName = "cw4d-view.html";
+
+// The viewer page when no --template is given: relative to the running executable's folder
+// (<exe dir>/../share/cw4d/cw4d-view.html, so an installed tree still works when moved), then
+// the web build's page, but only for the executable of the build tree.
+std::string find_template() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> looked;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec && exe.is_absolute()) {
+    const fs::path dir = exe.parent_path();
+    looked.push_back((dir / CW4D_VIEW_INSTALL_DIR / kPageName).lexically_normal());
+    const fs::path build_dir = CW4D_VIEW_BUILD_EXE_DIR;
+    if (!build_dir.empty() && !std::string_view(CW4D_VIEW_BUILD_TEMPLATE).empty() &&
+        fs::equivalent(dir, build_dir, ec) && !ec)
+      looked.emplace_back(CW4D_VIEW_BUILD_TEMPLATE);
+  }
+  for (const fs::path& path : looked)
+    if (fs::is_regular_file(path, ec)) return path.string();
+  std::string where;
+  for (const fs::path& path : looked) where += (where.empty() ? "" : ", ") + path.string();
+  where = where.empty() ? "the executable's own path is unknown" : "looked in " + where;
+  throw InputError("the viewer page cw4d-view.html is missing (" + where +
+                   "): build the web viewer (./setup.sh does, with emscripten), install it with "
+                   "'cmake --install build', or give --template FILE");
+}
 
 void run_view(ViewSettings& s) {
   s.placement.parse("view");
@@ -32,13 +71,14 @@ void run_view(ViewSettings& s) {
   if (!p.scene.empty()) throw InputError("view shows one MODEL, not a --scene");
   if (lower_extension(s.output) != ".html" && lower_extension(s.output) != ".htm")
     throw InputError("-o: the view is an .html file, got '" + s.output + "'");
+  if (s.templ.empty()) s.templ = find_template();
   std::string page;
   try {
     page = read_input_file(s.templ);
   } catch (const ParseError&) {
     throw InputError("the viewer page '" + s.templ +
-                     "' is missing: build the web viewer (./setup.sh does, with emscripten) or "
-                     "give --template build-web/web/site/cw4d-view.html");
+                     "' is missing or unreadable: build the web viewer (./setup.sh does, with "
+                     "emscripten) or give --template FILE (build-web/web/site/cw4d-view.html)");
   }
   const std::size_t at = page.find(kMarker);
   if (at == std::string::npos)
@@ -80,12 +120,17 @@ void add_view_command(CLI::App& app, Commands& commands) {
       ->type_name("D");
   cmd->add_option("-o,--output", s->output, "Output .html file")->required();
   cmd->add_option("--template", s->templ,
-                  "The viewer page to fill (default: the web build's cw4d-view.html)")
+                  "The viewer page to fill (default: cw4d-view.html of the install, see below)")
       ->type_name("FILE");
   cmd->footer(
       "The page holds the model (as nOFF, placed by --rotate/--translate in the order given),\n"
       "the WebAssembly core and the viewer; it slices live in the browser. Controls: see the\n"
-      "README. Exit codes: see 'cw4d --help'.");
+      "README.\n"
+      "The page is filled from --template FILE; else from " CW4D_VIEW_INSTALL_DIR
+      "/cw4d-view.html relative to\n"
+      "this executable's folder (put there by 'cmake --install'; still found when the prefix is\n"
+      "moved); else, for the executable of the build tree only, from the web build's site folder\n"
+      "(CMake's CW4D_WEB_SITE_DIR, default build-web/web/site). Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_view(*s); }});
 }
 
