@@ -155,7 +155,8 @@ configure_and_build() {
   # code with -Werror (CW4D_WERROR=0 turns it off). The plain run keeps what the build directory
   # has (so switching back from test mode rebuilds nothing) and builds only the CLI (and the
   # Python module if it is on); without the test tooling it turns them off, since tests/ needs
-  # Catch2, assimp and node and the module pybind11 (a new build directory starts so).
+  # Catch2, assimp and node and the module pybind11 (a new build directory starts so). The first
+  # test run after a plain one recompiles the libraries once (-Werror, and -fPIC for the module).
   local opts=() targets=()
   if [[ "$MODE" == test ]]; then
     opts=(-DCW4D_BUILD_TESTS=ON -DCW4D_BUILD_BENCH=ON -DCW4D_BUILD_PYTHON=ON)
