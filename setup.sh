@@ -1,20 +1,26 @@
 #!/usr/bin/env bash
-# cw4d setup: installs the Debian packages the build needs, builds Release into build/, then
-#   ./setup.sh        runs the main job (a tesseract section written to out/section.obj)
-#   ./setup.sh test   runs the test suite (ctest), the Python module's tests (pytest), the
-#                     C++ suite again under ASan+UBSan in build-asan/, the browser test of the
-#                     web viewer, then each libFuzzer target for 48 s (build-fuzz/); every stage
-#                     runs, a verdict per stage is printed, and the exit status is the first
-#                     failure's
+# cw4d setup: installs the Debian packages the mode needs, builds Release into build/, then
+#   ./setup.sh        runs the main job (a tesseract section written to out/section.obj); installs
+#                     only RUN_PACKAGES and builds only the cw4d CLI (and the Python module when
+#                     the build directory has it)
+#   ./setup.sh test   adds TEST_PACKAGES (the test tooling), reconfigures the same build directory
+#                     with the tests, benchmarks and Python module on, and runs the test suite
+#                     (ctest), the Python module's tests (pytest), the C++ suite again under
+#                     ASan+UBSan in build-asan/, the browser test of the web viewer, then each
+#                     libFuzzer target for 48 s (build-fuzz/); every stage runs, a verdict per
+#                     stage is printed, and the exit status is the first failure's
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
-# installed (CW4D_WEB=0 skips it).
-# Safe to run again: only missing packages are installed and the build is incremental.
+# installed (CW4D_WEB=0 skips it); `./setup.sh test` installs emscripten, the plain run does only
+# when RUN_WITH_WEB=1 below.
+# Safe to run again, and the modes in either order: only missing packages are installed and the
+# build is incremental.
 # Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build),
 # CW4D_WERROR (test mode: 1 = warnings in cw4d's own code are errors, the default; 0 = not).
 set -euo pipefail
 
-# Debian packages needed to build, test and benchmark cw4d. Add new dependencies here only.
-PACKAGES=(
+# Debian packages. Add new dependencies here only, to the list of the mode that needs them.
+# RUN_PACKAGES: building the cw4d CLI and running the main job.
+RUN_PACKAGES=(
   g++
   cmake
   ninja-build
@@ -23,8 +29,6 @@ PACKAGES=(
   libeigen3-dev
   libcli11-dev
   nlohmann-json3-dev
-  catch2
-  libbenchmark-dev
   libcgal-dev
   libgmp-dev
   libmpfr-dev
@@ -35,6 +39,20 @@ PACKAGES=(
   libwebp-dev
   libgif-dev
   libtet1.5-dev
+)
+# WEB_PACKAGES: the web viewer's compiler (it pulls in clang/LLVM 14, binaryen and nodejs).
+# Always installed by `./setup.sh test`; by the plain run only when RUN_WITH_WEB=1.
+RUN_WITH_WEB=0
+WEB_PACKAGES=(
+  emscripten
+)
+# TEST_PACKAGES: the test tooling `./setup.sh test` adds (Catch2, Google Benchmark, the
+# sanitizer and fuzzing runtimes, the readers and checkers the tests use, the Python module's
+# build and test dependencies, the browser of the browser test). npm is added when the `npm`
+# command is missing (Debian's nodejs has none; NodeSource's bundles it and conflicts with npm).
+TEST_PACKAGES=(
+  catch2
+  libbenchmark-dev
   libtbb-dev
   assimp-utils
   python3-vtk9
@@ -51,7 +69,6 @@ PACKAGES=(
   python3-scipy
   python3-matplotlib
   python3-mypy
-  emscripten
   chromium
 )
 
@@ -88,12 +105,22 @@ BUILD_DIR="${CW4D_BUILD_DIR:-build}"
 [[ "$JOBS" =~ ^[1-9][0-9]*$ ]] || die "CW4D_JOBS must be a positive integer, got '$JOBS'"
 
 # --- (a) packages -------------------------------------------------------------------------------
-install_missing_packages() {
-  local missing=() pkg status
-  for pkg in "${PACKAGES[@]}"; do
+PACKAGES=("${RUN_PACKAGES[@]}")
+if [[ "$MODE" == test || "$RUN_WITH_WEB" == 1 ]]; then PACKAGES+=("${WEB_PACKAGES[@]}"); fi
+if [[ "$MODE" == test ]]; then PACKAGES+=("${TEST_PACKAGES[@]}"); fi
+
+missing_packages() {  # PACKAGE...: prints those not installed, one a line
+  local pkg status
+  for pkg in "$@"; do
     status="$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)"
-    [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+    [[ "$status" == "install ok installed" ]] || printf '%s\n' "$pkg"
   done
+}
+
+install_missing_packages() {
+  local missing=()
+  mapfile -t missing < <(missing_packages "${PACKAGES[@]}")
+  if [[ "$MODE" == test ]] && ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
   if ((${#missing[@]} == 0)); then
     return 0
   fi
@@ -124,17 +151,29 @@ configure_and_build() {
       rm -rf "$cache" "$BUILD_DIR/CMakeFiles"
     fi
   fi
-  # Test mode (and so CI) builds cw4d's own code with -Werror (CW4D_WERROR=0 turns it off); the
-  # plain run keeps what the build directory has (OFF in a new one), so switching modes does not
-  # rebuild.
-  local werror=()
+  # Test mode (and so CI) turns the tests, benchmarks and Python module on and builds cw4d's own
+  # code with -Werror (CW4D_WERROR=0 turns it off). The plain run keeps what the build directory
+  # has (so switching back from test mode rebuilds nothing) and builds only the CLI (and the
+  # Python module if it is on); without the test tooling it turns them off, since tests/ needs
+  # Catch2, assimp and node and the module pybind11 (a new build directory starts so). The first
+  # test run after a plain one recompiles the libraries once (-Werror, and -fPIC for the module).
+  local opts=() targets=()
   if [[ "$MODE" == test ]]; then
-    if [[ "${CW4D_WERROR:-1}" != 0 ]]; then werror=(-DCW4D_WERROR=ON); else werror=(-DCW4D_WERROR=OFF); fi
+    opts=(-DCW4D_BUILD_TESTS=ON -DCW4D_BUILD_BENCH=ON -DCW4D_BUILD_PYTHON=ON)
+    if [[ "${CW4D_WERROR:-1}" != 0 ]]; then opts+=(-DCW4D_WERROR=ON); else opts+=(-DCW4D_WERROR=OFF); fi
+  elif [[ -n "$(missing_packages "${TEST_PACKAGES[@]}")" ]]; then
+    opts=(-DCW4D_BUILD_TESTS=OFF -DCW4D_BUILD_BENCH=OFF -DCW4D_BUILD_PYTHON=OFF)
   fi
   log "configuring Release in $BUILD_DIR/"
-  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${werror[@]}" >&2
-  log "building with $JOBS jobs"
-  cmake --build "$BUILD_DIR" -j "$JOBS" >&2
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${opts[@]}" >&2
+  if [[ "$MODE" != test ]]; then
+    targets=(--target cw4d)
+    if [[ "$(sed -n 's/^CW4D_BUILD_PYTHON:BOOL=//p' "$BUILD_DIR/CMakeCache.txt")" == ON ]]; then
+      targets+=(cw4d_python)
+    fi
+  fi
+  log "building ${targets[*]:+${targets[*]:1} }with $JOBS jobs"
+  cmake --build "$BUILD_DIR" -j "$JOBS" "${targets[@]}" >&2
 }
 
 # --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
@@ -253,7 +292,12 @@ web_enabled() {
 }
 build_web() {
   if ! web_enabled; then
-    log "web viewer skipped (emscripten not installed, or CW4D_WEB=0)"
+    if [[ "${CW4D_WEB:-1}" == 0 ]]; then
+      log "web viewer skipped (CW4D_WEB=0)"
+    else
+      log "web viewer not built: emscripten is not installed (./setup.sh test installs it, or" \
+        "apt-get install --no-install-recommends emscripten, then run ./setup.sh again)"
+    fi
     return 0
   fi
   # emscripten's JavaScript tools need the acorn parser of Debian's node-acorn.
