@@ -21,8 +21,12 @@ the test, so none is skipped silently:
   ```python   the Python example: run by python/tests/test_readme.py (pytest, with the module);
               here its block is only required to exist.
 
+Also (`readme_test.py links`): every relative link and image of README.md and docs/*.md
+resolves to a file (and an #anchor to a heading of it).
+
 usage:
   readme_test.py commands --source DIR --build DIR
+  readme_test.py links    --source DIR
   readme_test.py setup    --source DIR
   readme_test.py cpp      --source DIR --prefix DIR --work DIR [--cxx C] [--cxx-flags F]
                           [--linker-flags F] [--build-type T] [--launcher L]
@@ -310,9 +314,47 @@ def run_cpp(args):
     print(f"the C++ example printed: {done.stdout.strip()}")
 
 
+# --- links ----------------------------------------------------------------------------------------
+def slug(heading):
+    """GitHub's anchor of a heading."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    text = path.read_text(encoding="utf-8")
+    text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
+    return {slug(m.group(1)) for m in re.finditer(r"^#+\s+(.*)$", text, re.M)}
+
+
+def check_links(args):
+    """Every relative link and image of README.md and docs/*.md names a file of the source
+    tree (and a heading of it, for #anchors)."""
+    source = pathlib.Path(args.source).resolve()
+    pages = [source / "README.md", *sorted((source / "docs").glob("*.md"))]
+    bad, count = [], 0
+    for page in pages:
+        text = page.read_text(encoding="utf-8")
+        text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
+        for match in re.finditer(r"!?\[[^\]]*\]\(([^)\s]+)\)", text):
+            target = match.group(1)
+            if re.match(r"^[a-z]+:", target):
+                continue
+            count += 1
+            name, _, anchor = target.partition("#")
+            path = (page.parent / name).resolve() if name else page
+            if not path.exists():
+                bad.append(f"{page.relative_to(source)}: {target}: no such file")
+            elif anchor and path.suffix == ".md" and anchor not in anchors(path):
+                bad.append(f"{page.relative_to(source)}: {target}: no such heading")
+    if bad:
+        raise Failure("links that resolve to nothing:\n  " + "\n  ".join(bad))
+    print(f"ok   {count} links and images of README.md and docs/*.md resolve")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("what", choices=["commands", "setup", "cpp"])
+    parser.add_argument("what", choices=["commands", "setup", "cpp", "links"])
     parser.add_argument("--source", required=True)
     parser.add_argument("--build")
     parser.add_argument("--prefix")
@@ -330,6 +372,8 @@ def main():
             run_commands(args)
         elif args.what == "setup":
             check_setup(args)
+        elif args.what == "links":
+            check_links(args)
         else:
             if not args.prefix or not args.work:
                 parser.error("cpp needs --prefix and --work")
