@@ -10,7 +10,9 @@ the test, so none is skipped silently:
               names must exist afterwards (a non-empty file, or a non-empty folder), under out/
               (so no command writes into the source). `info --json` must print JSON. A
               `python3 -m http.server -d DIR --bind 127.0.0.1 PORT` line is served on a free
-              port instead of PORT for as long as one fetch of its page takes.
+              port instead of PORT for as long as one fetch of its page takes. With CW4D_WEB=0
+              (./setup.sh builds no viewer) that line's shape is checked and `cw4d view`
+              lines are reported as not run.
   ```console  the set-up commands, which cannot run inside the test suite
               (`readme_test.py setup`): exactly `./setup.sh` and `./setup.sh test`, and
               .ci/run must run `./setup.sh test`.
@@ -127,17 +129,20 @@ def free_port():
         return s.getsockname()[1]
 
 
-def serve_once(line, text, root):
+def serve_once(line, text, root, fetch=True):
     argv = words(text)
     shape = ["python3", "-m", "http.server", "-d", None, "--bind", "127.0.0.1", None]
     if len(argv) != len(shape) or any(a != b for a, b in zip(argv, shape) if b is not None):
         raise Failure(f"README.md:{line}: a server line of another shape than "
                       f"'python3 -m http.server -d DIR --bind 127.0.0.1 PORT': {text}")
     site = root / argv[4]
+    if not fetch:
+        print(f"shape checked, not served (CW4D_WEB=0: no web build) README.md:{line}: {text}")
+        return
     if not (site / "index.html").is_file():
         raise Failure(f"README.md:{line}: {argv[4]}/index.html does not exist (is the web "
                       "viewer built? ./setup.sh builds it into build-web/)")
-    port = free_port()
+    port, documented = free_port(), argv[-1]
     argv[-1] = str(port)
     server = subprocess.Popen([sys.executable, *argv[1:]], cwd=root, stdout=subprocess.DEVNULL,
                               stderr=subprocess.DEVNULL)
@@ -155,7 +160,7 @@ def serve_once(line, text, root):
                 time.sleep(0.2)
         if status != 200 or "<html" not in page.lower():
             raise Failure(f"README.md:{line}: the served page is not the viewer (HTTP {status})")
-        print(f"ok   README.md:{line}: served {argv[4]} on port {port} (README: {shape[-1] or 'PORT'})")
+        print(f"ok   README.md:{line}: served {argv[4]} on port {port} (README: {documented})")
     finally:
         server.terminate()
         server.wait(timeout=10)
@@ -184,10 +189,14 @@ def run_commands(args):
         for start, body in shell:
             for line, text in commands_of(start, body):
                 count += 1
+                no_web = os.environ.get("CW4D_WEB") == "0"
                 if text.startswith("python3 -m http.server"):
-                    serve_once(line, text, root)
+                    serve_once(line, text, root, fetch=not no_web)
                     continue
                 argv = words(text)
+                if no_web and len(argv) > 1 and argv[1] == "view":
+                    print(f"not run (CW4D_WEB=0: no web build) README.md:{line}: {text}")
+                    continue
                 outputs = outputs_of(argv)
                 for out in outputs:
                     if not out.startswith("out/"):
