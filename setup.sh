@@ -371,7 +371,7 @@ log "slicing the rotated tesseract into out/section.obj"
 [[ -s out/section.obj ]] || die "cw4d slice did not write out/section.obj"
 if compgen -G "$BUILD_DIR/python/cw4d/_cw4d*.so" >/dev/null; then
   python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")"
-  log "the Python module: PYTHONPATH=$BUILD_DIR/python ${python:-python3} -c 'import cw4d' (README: Python)"
+  log "the Python module: PYTHONPATH=$BUILD_DIR/python ${python:-python3} -c 'import cw4d' (docs/python.md)"
 fi
 if web_enabled; then
   log "web viewer: serve $WEB_DIR/web/site/ (python3 -m http.server -d $WEB_DIR/web/site --bind 127.0.0.1 8000)"

@@ -1,6 +1,6 @@
 // libFuzzer target: the whole command line. An input is an argument vector, the arguments
 // separated by NUL bytes (argv[0] is supplied), run through cw4d::cli::run exactly as main()
-// does. What must hold: no crash, no sanitizer report, and the exit code is one of README's
+// does. What must hold: no crash, no sanitizer report, and the exit code is one of docs/cli.md's
 // table other than 6 (an internal error is a bug). Every run happens in one scratch directory
 // that holds a few small inputs (a.4off: the 5-cell, b.off: a cube, s.json: a scene, p.txt:
 // the tesseract's vertices) and is emptied and refilled before each run; arguments containing

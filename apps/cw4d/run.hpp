@@ -3,8 +3,8 @@
 
 namespace cw4d::cli {
 
-/// Parses argv (argv[0] is the program name) and runs the subcommand. Returns the exit code of
-/// README's table (0 to 6) and never calls exit(): every failure, out of memory included, is
+/// Parses argv (argv[0] is the program name) and runs the subcommand. Returns the exit code of the
+/// table in docs/cli.md (0 to 6) and never calls exit(): every failure, out of memory included, is
 /// caught and reported as one "cw4d: error: ..." line on stderr. \pre argv[argc] == nullptr.
 int run(int argc, char** argv);
 

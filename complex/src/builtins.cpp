@@ -481,7 +481,7 @@ std::vector<ModelFamily> default_families() {
     star.description =
         "regular star or named non-convex uniform polychoron (Wythoff construction, edge 2), "
         "e.g. 'great grand stellated 120-cell', 'grand 600-cell', 'quasitruncated tesseract' "
-        "(every name: README)";
+        "(every name: docs/models.md)";
     star.matches = [](std::string_view lowered) {
       return star_polychoron_diagram(lowered).has_value();
     };

@@ -1,4 +1,4 @@
-"""The README's example: cut the 120-cell, print the volume, save a picture (quickstart.png).
+"""The example of docs/python.md: cut the 120-cell, print the volume, save a picture (quickstart.png).
 
     PYTHONPATH=build/python /usr/bin/python3 python/examples/quickstart.py
 """
