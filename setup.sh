@@ -11,7 +11,7 @@
 #                     stage is printed, and the exit status is the first failure's
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
 # installed (CW4D_WEB=0 skips it); `./setup.sh test` installs emscripten, the plain run does only
-# when RUN_WITH_WEB=1 below.
+# with CW4D_WEB=1 (`CW4D_WEB=1 ./setup.sh`: 33 more packages, 185 MB to fetch, 1.2 GB installed).
 # Safe to run again, and the modes in either order: only missing packages are installed and the
 # build is incremental.
 # Environment: CW4D_JOBS (parallel build/test jobs, default 2), CW4D_BUILD_DIR (default build),
@@ -41,8 +41,9 @@ RUN_PACKAGES=(
   libtet1.5-dev
 )
 # WEB_PACKAGES: the web viewer's compiler (it pulls in clang/LLVM 14, binaryen and nodejs).
-# Always installed by `./setup.sh test`; by the plain run only when RUN_WITH_WEB=1.
+# Always installed by `./setup.sh test`; by the plain run only with CW4D_WEB=1.
 RUN_WITH_WEB=0
+[[ "${CW4D_WEB:-}" == 1 ]] && RUN_WITH_WEB=1
 WEB_PACKAGES=(
   emscripten
 )
@@ -163,6 +164,13 @@ configure_and_build() {
     if [[ "${CW4D_WERROR:-1}" != 0 ]]; then opts+=(-DCW4D_WERROR=ON); else opts+=(-DCW4D_WERROR=OFF); fi
   elif [[ -n "$(missing_packages "${TEST_PACKAGES[@]}")" ]]; then
     opts=(-DCW4D_BUILD_TESTS=OFF -DCW4D_BUILD_BENCH=OFF -DCW4D_BUILD_PYTHON=OFF)
+  fi
+  # Where the web build's site is, for `cmake --install` and the installed `cw4d view` test;
+  # without a web build that test is left out (CW4D_WEB=OFF).
+  if web_enabled; then
+    opts+=(-DCW4D_WEB=ON "-DCW4D_WEB_SITE_DIR=$PWD/$WEB_DIR/web/site")
+  else
+    opts+=(-DCW4D_WEB=OFF)
   fi
   log "configuring Release in $BUILD_DIR/"
   cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${opts[@]}" >&2
@@ -295,8 +303,8 @@ build_web() {
     if [[ "${CW4D_WEB:-1}" == 0 ]]; then
       log "web viewer skipped (CW4D_WEB=0)"
     else
-      log "web viewer not built: emscripten is not installed (./setup.sh test installs it, or" \
-        "apt-get install --no-install-recommends emscripten, then run ./setup.sh again)"
+      log "web viewer not built: emscripten is not installed (CW4D_WEB=1 ./setup.sh installs" \
+        "it, 185 MB to fetch, and builds the viewer; ./setup.sh test does too)"
     fi
     return 0
   fi
@@ -315,8 +323,15 @@ run_browser_test() {
   fi
   command -v chromium >/dev/null 2>&1 || die "chromium is missing (Debian package chromium)"
   log "testing the web viewer in headless Chromium"
+  local status=0 rc
   python3 web/test/browser_test.py --site "$WEB_DIR/web/site" --cw4d "$BUILD_DIR/apps/cw4d" \
-    --samples tests/data/miratope
+    --samples tests/data/miratope || status=$?
+  # The page driven as a person would (pointer, wheel, keys, touch, downloads, the phone
+  # layout), its screenshots and frame times in $WEB_DIR/viewer-test/.
+  log "driving the viewer page as a user (web/test/viewer_test.mjs)"
+  node web/test/viewer_test.mjs --site "$WEB_DIR/web/site" --cw4d "$BUILD_DIR/apps/cw4d" \
+    --out "$WEB_DIR/viewer-test" --screenshots "$WEB_DIR/viewer-test" || { rc=$?; ((status)) || status=$rc; }
+  return "$status"
 }
 
 # --- (c'') test mode only: every C++ file is formatted by .clang-format ---------------------------
