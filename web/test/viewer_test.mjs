@@ -89,6 +89,7 @@ async function check(name, fn, seconds = 90) {
   const t0 = Date.now();
   try {
     await withTimeout(Promise.resolve().then(fn), seconds * 1000, name);
+    if (stopped) return;
     results.push({ name, ok: true });
     console.log(`viewer_test: ok   ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
   } catch (e) {
