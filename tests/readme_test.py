@@ -141,7 +141,7 @@ def serve_once(line, text, root, fetch=True):
         return
     if not (site / "index.html").is_file():
         raise Failure(f"README.md:{line}: {argv[4]}/index.html does not exist (is the web "
-                      "viewer built? ./setup.sh builds it into build-web/)")
+                      "viewer built? CW4D_WEB=1 ./setup.sh builds it into build-web/)")
     port, documented = free_port(), argv[-1]
     argv[-1] = str(port)
     server = subprocess.Popen([sys.executable, *argv[1:]], cwd=root, stdout=subprocess.DEVNULL,

@@ -390,6 +390,7 @@ export async function start(createCw4d, config = {}) {
 
   // --- loading ------------------------------------------------------------------------------
   const loaded = (label) => {
+    const previousRadius = info ? info.radius : null;
     info = model.info();
     const d = info.dim;
     const r = info.radius;
@@ -407,6 +408,8 @@ export async function start(createCw4d, config = {}) {
     if (state.normal.length !== d) state.normal = d === 4 ? [0, 0, 0, 1] : [0, 0, 1];
     // A new model keeps the plane where it fits; an offset from the URL beyond the model is 0.
     if (Number.isNaN(state.offset)) state.offset = config.off ? 0 : DEFAULT_OFFSET * r;
+    // Another model keeps the plane at the same fraction of its radius.
+    if (!firstLoad && previousRadius > 0) state.offset *= r / previousRadius;
     if (Math.abs(state.offset) > r) state.offset = firstLoad ? 0 : Math.sign(state.offset) * r;
     firstLoad = false;
     basisCache = null;
