@@ -115,6 +115,17 @@ TEST_CASE("cw4d render textures sections and lights them in 4D", "[render][cli]"
   CHECK(differing_fraction(plain, checker) > 0.2);
   CHECK(differing_fraction(checker, tet) < 0.02);  // both paths texture alike
   CHECK(differing_fraction(plain, render("obj.png", {"--texture", "object=0:wood"})) > 0.01);
+  // A section on a checker's wall (w = 0: checker:8 has p_w = 4 on every face) shows the side
+  // above the wall on every pixel, as a section just above it does (the same cube), not a
+  // per-pixel mix of the two sides.
+  auto wall = [&](const std::string& out, const std::string& offset) {
+    const Result r = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--offset", offset,
+                               "--texture", "checker:8", "--size", "160x120", "-o", out});
+    CAPTURE(offset, r.err);
+    REQUIRE(r.code == 0);
+    return cw4d::render::read_png((dir / out).string());
+  };
+  CHECK(differing_fraction(wall("wall.png", "0"), wall("above.png", "0.0001")) == 0.0);
   // 4D light: turning the model in xw changes the picture of the same section (w-cells lit
   // differently), while the 3D studio light sees only the section's shape.
   const auto l20 = render("l20.png", {"--light-mode", "4d", "--rotate", "xw:20"});

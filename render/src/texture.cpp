@@ -11,6 +11,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
+#include "cw4d/render/tolerances.hpp"
 
 // Ken Perlin's improved noise as Debian's libstb-dev ships it (stb_perlin.h, public domain),
 // compiled here with static linkage.
@@ -34,6 +35,12 @@ namespace {
 
 float fract(float x) {
   return x - std::floor(x);
+}
+
+// The lattice cell of x with the tie-break of texture.hpp: within tol::texture_lattice_tie of
+// a period below a whole number counts as that number's side.
+float lattice_floor(float x) {
+  return std::floor(x + tol::texture_lattice_tie);
 }
 
 float smooth(float e0, float e1, float x) {
@@ -95,19 +102,19 @@ float Texture3D::factor(glm::vec3 uvw) const {
   const glm::vec3 p = uvw * scale;
   switch (kind) {
     case Kind::Checker: {
-      const long s = static_cast<long>(std::floor(p.x)) + static_cast<long>(std::floor(p.y)) +
-                     static_cast<long>(std::floor(p.z));
+      const long s = static_cast<long>(lattice_floor(p.x)) + static_cast<long>(lattice_floor(p.y)) +
+                     static_cast<long>(lattice_floor(p.z));
       return (s & 1) ? dark : 1.0f;
     }
     case Kind::Grid: {
       // A line where any two coordinates are within half a line width of a whole number:
-      // the edges of the lattice's cubes, so every section shows a grid.
+      // the edges of the lattice's cubes, so every section shows a grid. Near k means
+      // [k - h, k + h) with both edges tie-broken like the checker's walls: a whole number
+      // lies between p - h and p + h when their lattice cells differ (width < 1 period).
       const float h = 0.5f * line_width;
       int near = 0;
-      for (int i = 0; i < 3; ++i) {
-        const float f = fract(p[i]);
-        if (f < h || f > 1.0f - h) ++near;
-      }
+      for (int i = 0; i < 3; ++i)
+        if (lattice_floor(p[i] + h) != lattice_floor(p[i] - h)) ++near;
       return near >= 2 ? dark : 1.0f;
     }
     case Kind::Wood: {
@@ -131,9 +138,11 @@ float Texture3D::factor(glm::vec3 uvw) const {
 
 glm::vec3 Texture3D::apply(glm::vec3 base, glm::vec3 uvw) const {
   if (kind == Kind::Volume && volume) {
-    glm::vec3 p = uvw * scale;
-    p = p - glm::floor(p);  // repeats `scale` times
-    return volume->sample(p);
+    const glm::vec3 p = uvw * scale;
+    // Repeats `scale` times; a repeat's wall is tie-broken like the checker's (p in
+    // [-tie, 1 - tie): sample() clamps the sliver below 0 to the first texels).
+    const glm::vec3 cell(lattice_floor(p.x), lattice_floor(p.y), lattice_floor(p.z));
+    return volume->sample(p - cell);
   }
   return base * factor(uvw);
 }

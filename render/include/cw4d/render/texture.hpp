@@ -8,6 +8,15 @@
 // marble mix it with a darker shade); an image volume (a stack of PNG slices, filtered
 // trilinearly) replaces it. UVW in [0, 1]^3 spans a cell's box (section/uvw.hpp); `scale`
 // repeats the pattern that many times per unit of UVW.
+//
+// Lattice walls: with p = uvw * scale, the checker's cells, the grid's line edges and an image
+// volume's repeats change where a coordinate of p (or p -/+ half a line width) crosses a whole
+// number. Those walls are taken as floor(x + tie), tie = tol::texture_lattice_tie = 1e-3 of a
+// period: a sample on a wall, or within the tie below it, belongs to the cell above it. A
+// section lying exactly on a wall (the tesseract cut at w = 0 with checker:8 has p.z = 4 on
+// its faces) then shows one side uniformly, not a per-pixel mix decided by interpolation
+// rounding; a wall the section crosses stays where it is, to 1e-3 of a period. Wood's ring
+// edges are curved surfaces (no section lies on one) and marble has no walls.
 #include <glm/vec3.hpp>
 
 #include <cstdint>

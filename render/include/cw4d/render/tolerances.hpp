@@ -25,4 +25,20 @@ inline constexpr double pole_gap = 1e-9;
 /// direction.
 inline constexpr float up_parallel_sin = 1e-6f;
 
+/// Solid textures (texture.hpp): a sample within this fraction of one period below a lattice
+/// plane of the pattern (a checker's cell wall, a grid line's edge, an image volume's repeat)
+/// counts as on its upper side: the texture takes floor(p + tie), not floor(p). A section plane
+/// that lies exactly on a lattice plane (w = 0 through the tesseract with any even checker)
+/// gives every pixel the same UVW up to interpolation rounding, and floor(p) would pick either
+/// side at random per pixel. The rasterizer interpolates UVW perspective-correctly in float
+/// (raster.cpp: attributes times 1/w, barycentric weights, one division), a relative error of
+/// a few float ulps, so |error| <~ 1e-6 |p| periods: 1e-3 clears it a hundredfold for
+/// |p| = UVW * scale up to 10 (UVW in [0, 1] at every default scale) and tenfold up to 100,
+/// while it moves a genuine boundary by 1e-3 of a period (under a tenth of a pixel unless one
+/// period spans more than 100 pixels).
+/// The discontinuity moves from p = k, where exact geometry lands, to p = k - tie, where
+/// nothing in particular does ([Goldberg 1991] "What every computer scientist should know about
+/// floating-point arithmetic": the rounding behind the jitter).
+inline constexpr float texture_lattice_tie = 1e-3f;
+
 }  // namespace cw4d::render::tol
