@@ -330,7 +330,7 @@ run_browser_test() {
   # layout), its screenshots and frame times in $WEB_DIR/viewer-test/.
   log "driving the viewer page as a user (web/test/viewer_test.mjs)"
   node web/test/viewer_test.mjs --site "$WEB_DIR/web/site" --cw4d "$BUILD_DIR/apps/cw4d" \
-    --out "$WEB_DIR/viewer-test" --screenshots "$WEB_DIR/viewer-test" || { rc=$?; ((status)) || status=$rc; }
+    --out "$WEB_DIR/viewer-test" --screenshots "$WEB_DIR/viewer-test" --bench-seconds 20 || { rc=$?; ((status)) || status=$rc; }
   return "$status"
 }
 
