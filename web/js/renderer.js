@@ -1,8 +1,7 @@
 // WebGL2 drawing of a section: the CPU path (triangles from the WebAssembly core), the polygon
 // outlines, the GPU tetrahedral path and the whole polytope's wireframe around the section
 // (shaders.js); an orbit camera; coverage readback.
-import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX, TETS_PER_ROW, WIRE_VERTEX,
-  WIRE_FRAGMENT } from './shaders.js';
+import { FRAGMENT, CPU_VERTEX, LINE_VERTEX, LINE_FRAGMENT, TET_VERTEX, TETS_PER_ROW, WIRE_VERTEX, WIRE_FRAGMENT } from './shaders.js';
 
 export function perspective(fovy, aspect, near, far) {
   const f = 1 / Math.tan(fovy / 2), nf = 1 / (near - far);

@@ -6,8 +6,7 @@
 // view is kept in the URL so that it can be shared.
 import { Renderer, tetsFromBuffer, orbitView } from './renderer.js';
 import { runSelftest } from './selftest.js';
-import { COORDINATE_PLANES, identity, multiply, planeRotation, coordinateRotation, orthonormalize,
-  fromRotations, glMatrix4 } from './math4.js';
+import { COORDINATE_PLANES, identity, multiply, planeRotation, coordinateRotation, orthonormalize, fromRotations, glMatrix4 } from './math4.js';
 import { sectionObj, sectionStl, sectionGlb, saveBlob } from './exporters.js';
 import { libraryGroups } from './library.js';
 
@@ -117,13 +116,14 @@ export async function start(createCw4d, config = {}) {
     const wanted = fromFile ? `file:${fromFile}` : state.model;
     const listed = [...picker.options].find((o) => o.value === wanted);
     if (listed) {
-      picker.value = wanted;
       current.hidden = true;
     } else {
-      current.appendChild(new Option(fromFile ? `file: ${fromFile}` : state.model, wanted));
+      current.appendChild(new Option(fromFile || state.model, wanted));
       current.hidden = false;
-      picker.value = wanted;
     }
+    // The selected attribute too, so that a saved or printed page names its model.
+    for (const o of picker.options) o.defaultSelected = o.value === wanted;
+    picker.value = wanted;
   };
   const libraryBox = $('library-groups');
   for (const g of groups) {

@@ -209,6 +209,11 @@ def check_view(args, tmp):
         status = re.search(r'id="status"[^>]*>([^<]*)<', dump.stdout)
         fail("the page of cw4d view shows no section (status: "
              f"{status.group(1) if status else dump.stdout[:300]!r})")
+    # The model picker names the model shown (it once said "5-cell" on every such page).
+    picked = re.findall(r'<option value="[^"]*" selected="">([^<]*)<', dump.stdout)
+    if len(picked) != 1 or not picked[0].startswith(case["spec"]):
+        fail(f"the model picker of the cw4d view page shows {picked}, not {case['spec']}",
+             fatal=False)
     counts, volume, line = native_slice(args, tmp, case, case["offset"])
     shown = [int(x) for x in fv.group(1).split(",")]
     if shown != counts or not close(float(vol.group(1)), volume):
