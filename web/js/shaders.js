@@ -167,7 +167,10 @@ void main() {
   vNormal = mat3(uView) * normalize(cellNormal);
   // Triangles (0,1,2) and (0,2,3); for a triangle case the second one is (q0,q2,q2).
   int order[6] = int[6](0, 1, 2, 0, 2, 3);
-  bool flip = dot(cross(q[1] - q[0], q[2] - q[0]), cellNormal) < 0.0;
+  // The winding from the diagonals' cross product (the quadrilateral's area vector, and the
+  // triangle's when q3 = q2), which stays right when a corner on the plane makes two of the
+  // points one (q0 = q1 through a vertex on the plane): the first triangle's edges would not.
+  bool flip = dot(cross(q[2] - q[0], q[3] - q[1]), cellNormal) < 0.0;
   if (flip) v = v == 1 ? 2 : (v == 2 ? 1 : (v == 4 ? 5 : (v == 5 ? 4 : v)));
   int c = order[v];
   vUvw = t[c];

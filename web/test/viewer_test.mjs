@@ -1071,6 +1071,35 @@ async function runChecks(args, browser, base, tmp, downloads, bench) {
       await p.close();
     }
   }, 180);
+  await check('14 a checker on a lattice wall does not speckle (the tesseract at w = 0), on both paths', async () => {
+    // The cells' UVW along w is exactly on a checker wall at d = 0; the oracle is the same view
+    // with the plane 1e-4 above the wall, where no sample is near it: same picture.
+    const view = 'model=tesseract&R=1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1&n=0,0,0,1&whole=off&tex=1&edges=0&play=0';
+    for (const gpu of [0, 1]) {
+      const pictures = [];
+      for (const d of ['0', '0.0001']) {
+        const { page: p } = await openPage(desktop, base, `${view}&d=${d}&gpu=${gpu}`);
+        try {
+          await frames(p, 3);
+          ok((await state(p)).gpu === (gpu === 1), `gpu=${gpu} was not applied`);
+          pictures.push(decodePng(await canvasPicture(p)));
+        } finally {
+          await p.close();
+        }
+      }
+      const [a, b] = pictures;
+      let differ = 0, covered = 0;
+      for (let i = 0; i < a.width * a.height; i += 1) {
+        const d = Math.abs(a.rgba[4 * i] - b.rgba[4 * i]) + Math.abs(a.rgba[4 * i + 1] - b.rgba[4 * i + 1]) +
+          Math.abs(a.rgba[4 * i + 2] - b.rgba[4 * i + 2]);
+        if (d > 30) differ += 1;
+        if (b.rgba[4 * i] + b.rgba[4 * i + 1] + b.rgba[4 * i + 2] > 120) covered += 1;
+      }
+      console.log(`viewer_test: checker on the wall, ${gpu ? 'GPU' : 'CPU'} path: ${differ} of ${covered} covered pixels differ from d = 1e-4`);
+      ok(covered > 10000, `the section covers only ${covered} pixels`);
+      ok(differ <= covered / 1000, `${differ} pixels differ between d = 0 and d = 1e-4 (speckle)`);
+    }
+  }, 180);
   await check('12b frameBench runs both paths on the same tetrahedra', async () => {
     await page.evaluate(() => window.cw4dViewer.load('24-cell'));
     await waitModel(page, '24-cell');
