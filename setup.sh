@@ -165,13 +165,7 @@ configure_and_build() {
   elif [[ -n "$(missing_packages "${TEST_PACKAGES[@]}")" ]]; then
     opts=(-DCW4D_BUILD_TESTS=OFF -DCW4D_BUILD_BENCH=OFF -DCW4D_BUILD_PYTHON=OFF)
   fi
-  # Where the web build's site is, for `cmake --install` and the installed `cw4d view` test;
-  # without a web build that test is left out (CW4D_WEB=OFF).
-  if web_enabled; then
-    opts+=(-DCW4D_WEB=ON "-DCW4D_WEB_SITE_DIR=$PWD/$WEB_DIR/web/site")
-  else
-    opts+=(-DCW4D_WEB=OFF)
-  fi
+  mapfile -t -O "${#opts[@]}" opts < <(web_options)
   log "configuring Release in $BUILD_DIR/"
   cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${opts[@]}" >&2
   if [[ "$MODE" != test ]]; then
@@ -204,7 +198,8 @@ discard_stale_cache() {  # DIR [COMPILER]: drop a CMake cache made elsewhere or 
 }
 
 run_sanitizer_suite() {
-  local dir="${CW4D_ASAN_DIR:-build-asan}" status=0
+  local dir="${CW4D_ASAN_DIR:-build-asan}" status=0 web=()
+  mapfile -t web < <(web_options)
   discard_stale_cache "$dir"
   log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build in $dir/"
   # -g1 (line tables only): sanitizer reports keep function names and file:line, while each
@@ -212,7 +207,7 @@ run_sanitizer_suite() {
   # These flags replace CMake's RelWithDebInfo default (-O2 -g -DNDEBUG): without NDEBUG the
   # assert()s on cw4d's internal invariants (and Eigen's index checks) are on in this build.
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCW4D_BUILD_BENCH=OFF \
-    -DCW4D_BUILD_PYTHON=OFF \
+    -DCW4D_BUILD_PYTHON=OFF "${web[@]}" \
     "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
     "-DCMAKE_EXE_LINKER_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_SHARED_LINKER_FLAGS=$SANITIZE_FLAGS" >&2 ||
     return 1
@@ -295,6 +290,13 @@ run_python_tests() {
 # --- (b'') the web viewer: complex/ and section/ compiled to WebAssembly in build-web/ ----------
 # Optional: skipped (with a note) when emscripten is not installed, or with CW4D_WEB=0.
 WEB_DIR="${CW4D_WEB_DIR:-build-web}"
+# Where the web build's site is, for `cmake --install` and the installed `cw4d view` test;
+# without a web build that test is left out (CW4D_WEB=OFF). Given to every native build.
+web_options() {
+  local site="$WEB_DIR/web/site"
+  [[ "$site" == /* ]] || site="$PWD/$site"
+  if web_enabled; then printf '%s\n' -DCW4D_WEB=ON "-DCW4D_WEB_SITE_DIR=$site"; else echo -DCW4D_WEB=OFF; fi
+}
 web_enabled() {
   [[ "${CW4D_WEB:-1}" != 0 ]] && command -v emcmake >/dev/null 2>&1 && command -v em++ >/dev/null 2>&1
 }

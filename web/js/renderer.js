@@ -154,7 +154,7 @@ export class Renderer {
     }
     if (!t || t.error || t.count === 0) return '';
     const rows = Math.ceil(t.count / TETS_PER_ROW), width = 9 * TETS_PER_ROW;
-    if (rows > gl.getParameter(gl.MAX_TEXTURE_SIZE))
+    if (rows > gl.getParameter(gl.MAX_TEXTURE_SIZE) || width > gl.getParameter(gl.MAX_TEXTURE_SIZE))
       return `${t.count} tetrahedra need a ${width} x ${rows} texture, more than this GPU's ` +
         `${gl.getParameter(gl.MAX_TEXTURE_SIZE)}`;
     const data = new Float32Array(width * rows * 4);

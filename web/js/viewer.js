@@ -172,10 +172,13 @@ export async function start(createCw4d, config = {}) {
       basisCache = { key, b: model.planeBasis(state.normal) };
     return basisCache.b;
   };
-  // The basis as four rows by three columns for the shaders (a 3D model: w stays out).
+  // The basis as four rows by three columns for the shaders. A 3D model's section is a polygon
+  // in the plane z = 0 of the view; its third column is the normal, so that the whole model
+  // stands around the polygon (z = n.x - d) instead of being flattened onto it.
   const basis4 = () => {
     const b = basis(), d = n(), out = new Float32Array(12);
     for (let c = 0; c < d - 1; ++c) for (let r = 0; r < d; ++r) out[4 * c + r] = b[d * c + r];
+    if (d === 3) unitNormal().forEach((x, r) => (out[8 + r] = x));
     return out;
   };
   const glPlacement = () => {
@@ -218,10 +221,16 @@ export async function start(createCw4d, config = {}) {
     if (state.playing) q.set('play', '1');
     for (const [k, v] of [['edges', state.edges], ['colours', state.colours], ['back', state.back],
       ['gpu', state.gpu], ['tex', state.texture]]) q.set(k, v ? '1' : '0');
-    history.replaceState(null, '', `${location.pathname}?${q}`);
+    try {
+      history.replaceState(null, '', `${location.pathname}?${q}`);
+    } catch (e) {
+      // (a browser may refuse frequent replacements: the view goes on, the link catches up)
+    }
   };
+  // Written once the view has rested for 300 ms, not at every frame of a drag or animation.
   const scheduleUrl = () => {
-    if (!urlTimer) urlTimer = setTimeout(writeUrl, 200);
+    clearTimeout(urlTimer);
+    urlTimer = setTimeout(writeUrl, 300);
   };
 
   // --- slicing and drawing ------------------------------------------------------------------
@@ -240,7 +249,7 @@ export async function start(createCw4d, config = {}) {
       status(s.error, true, 'slice');
       return null;
     }
-    if (errorFrom === 'slice' || errorFrom === 'normal' || errorFrom === 'placement') clearError();
+    if (errorFrom === 'slice' || errorFrom === 'placement') clearError();
     return s;
   };
   const showCounts = (s) => {
@@ -410,7 +419,10 @@ export async function start(createCw4d, config = {}) {
     if (Number.isNaN(state.offset)) state.offset = config.off ? 0 : DEFAULT_OFFSET * r;
     // Another model keeps the plane at the same fraction of its radius.
     if (!firstLoad && previousRadius > 0) state.offset *= r / previousRadius;
-    if (Math.abs(state.offset) > r) state.offset = firstLoad ? 0 : Math.sign(state.offset) * r;
+    if (Math.abs(state.offset) > r) {
+      if (firstLoad) status(`d = ${fmt(state.offset)} lies beyond the model (radius ${fmt(r)}): showing d = 0`, true, 'url');
+      state.offset = firstLoad ? 0 : Math.sign(state.offset) * r;
+    }
     firstLoad = false;
     basisCache = null;
     const slider = $('offset');
@@ -440,7 +452,9 @@ export async function start(createCw4d, config = {}) {
     if (!info || info.dim !== 4) return null;
     if (!tets) {
       const t = model.tets();
-      const err = t.error || renderer.setTets(t);
+      const err = t.error || (t.count === 0
+        ? `all ${t.skippedCells} cells are non-convex (the buffers of cw4d tetrahedralize can be dropped)`
+        : renderer.setTets(t));
       tets = err ? null : t;
       if (err) status(`GPU path: ${err}`, true, 'gpu');
     }
@@ -482,6 +496,7 @@ export async function start(createCw4d, config = {}) {
   // --- the panel ----------------------------------------------------------------------------
   $('offset').addEventListener('input', () => {
     state.offset = Number($('offset').value);
+    if (errorFrom === 'url') clearError();
     invalidate();
   });
   $('normal').addEventListener('change', () => {
@@ -540,7 +555,9 @@ export async function start(createCw4d, config = {}) {
   $('reset').addEventListener('click', reset);
   picker.addEventListener('change', () => {
     if (!picker.value.startsWith('file:') && !loadSpec(picker.value, 'picker')) showPicked();
+    picker.blur();  // the keys 1-6 turn the model, not pick by their first letter
   });
+  for (const id of ['anim', 'whole']) $(id).addEventListener('change', () => $(id).blur());
   $('spec').addEventListener('change', () => {
     const text = $('spec').value.trim();
     if (text) loadSpec(text, 'spec');
@@ -680,6 +697,7 @@ export async function start(createCw4d, config = {}) {
     const t = e.target;
     if (t && (t.tagName === 'INPUT' && t.type === 'text' || t.tagName === 'SELECT' || t.tagName === 'TEXTAREA'))
       return;
+    if (t && t.tagName === 'INPUT' && t.type === 'checkbox' && e.code === 'Space') return;
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     const digit = /^Digit([1-6])$/.exec(e.code);
     if (digit) {
@@ -714,11 +732,16 @@ export async function start(createCw4d, config = {}) {
     const bin = files.find((f) => f.name.endsWith('.bin'));
     try {
       const header = JSON.parse(await json.text());
-      if (header.cells !== info.fvector[3])
+      if (info.dim !== 4 || header.cells !== info.fvector[3])
         throw new Error(`${json.name} holds ${header.cells} cells, the model has ${info.fvector[3]}`);
-      tets = tetsFromBuffer(header, await bin.arrayBuffer(), core.cellPalette(header.cells));
-      const err = renderer.setTets(tets);
-      if (err) throw new Error(err);
+      const dropped = tetsFromBuffer(header, await bin.arrayBuffer(), core.cellPalette(header.cells));
+      const err = renderer.setTets(dropped);
+      if (err) {
+        tets = null;
+        makeTets();
+        throw new Error(err);
+      }
+      tets = dropped;
       setGpu(true);
       status(`GPU path: ${tets.count} tetrahedra from ${bin.name}`);
     } catch (err) {
