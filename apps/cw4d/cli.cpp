@@ -86,6 +86,24 @@ std::vector<double> parse_vector(const std::string& text, const std::string& opt
   return out;
 }
 
+std::pair<int, int> parse_image_size(const std::string& text) {
+  // Parsed with from_chars rather than sscanf("%dx%d"), whose %d is undefined for a number
+  // beyond int (glibc wraps 4294967297 to 1) and which skips leading spaces and signs.
+  auto side = [&](std::string_view digits) {
+    int v = 0;
+    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    const bool ok = !digits.empty() && digits.front() != '-' && ec == std::errc() &&
+                    ptr == digits.data() + digits.size() && v >= 1 && v <= 16384;
+    return ok ? v : 0;
+  };
+  const auto x = text.find('x');
+  const int w = x == std::string::npos ? 0 : side(std::string_view(text).substr(0, x));
+  const int h = x == std::string::npos ? 0 : side(std::string_view(text).substr(x + 1));
+  if (w == 0 || h == 0)
+    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not '" + text + "'");
+  return {w, h};
+}
+
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
@@ -235,7 +253,7 @@ std::string Placement::input_label() const {
 
 void Placement::check_dimension(int dim) const {
   const std::string where = input_label() + " lives in R^" + std::to_string(dim);
-  if (normal.size() != static_cast<std::size_t>(dim))
+  if (!normal.empty() && normal.size() != static_cast<std::size_t>(dim))
     throw InputError("--normal has " + std::to_string(normal.size()) + " components but " + where +
                      ": give " + std::to_string(dim) + " comma-separated numbers");
   if (!translate.empty() && translate.size() != static_cast<std::size_t>(dim))

@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cw4d/complex/complex.hpp"
@@ -56,6 +57,8 @@ double parse_number(std::string_view text, const std::string& what);
 /// "x,y,z,w" -> numbers (the count is checked against the model's dimension later).
 std::vector<double> parse_vector(const std::string& text, const std::string& option);
 /// The extension of `path`, lower case, with its dot ("" when none).
+/// "WIDTHxHEIGHT" (--size), each side 1..16384. \throw InputError
+std::pair<int, int> parse_image_size(const std::string& text);
 std::string lower_extension(const std::string& path);
 bool is_off_extension(const std::string& ext);
 /// "12 vertices, 18 edges, 8 faces"
@@ -103,7 +106,8 @@ struct Placement {
   /// The checks that need no model; `command` names the subcommand in messages.
   /// \throw InputError
   void parse(const std::string& command);
-  /// The checks against the input's dimension. \throw InputError
+  /// The checks against the input's dimension (an empty `normal`, one the command defaults
+  /// itself, is not checked). \throw InputError
   void check_dimension(int dim) const;
   /// x_world = R_k ... R_1 x_model + t.
   AffineTransform model_to_world(int dim) const;

@@ -1,6 +1,7 @@
 // cw4d net: unfold the cells of a 4D polytope (the faces of a 3D one) into one cell's
 // hyperplane and write the net like a section.
 #include <iostream>
+#include <tuple>
 
 #include "cli.hpp"
 #include "cw4d/complex/geometry.hpp"
@@ -47,13 +48,7 @@ void run_net(NetSettings& s) {
   const NetTree tree = parse_net_tree(s.tree);
   render::RasterOptions raster;
   if (png) {
-    int w = 0, h = 0;
-    char tail = 0;
-    if (std::sscanf(s.size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
-        h > 16384)
-      throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not '" + s.size + "'");
-    raster.width = w;
-    raster.height = h;
+    std::tie(raster.width, raster.height) = parse_image_size(s.size);
   }
 
   const Complex model = load(s.model);

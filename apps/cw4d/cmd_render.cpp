@@ -6,8 +6,12 @@
 #include <filesystem>
 #include <iostream>
 #include <numbers>
+#include <tuple>
+
+#include <unistd.h>
 
 #include "cli.hpp"
+#include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/render/animation.hpp"
 #include "cw4d/render/color.hpp"
@@ -95,13 +99,7 @@ glm::vec3 parse_vec3(const std::string& text, const std::string& option) {
 
 render::RasterOptions raster_options(const RenderSettings& s) {
   render::RasterOptions r;
-  int w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(s.size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
-      h > 16384)
-    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not '" + s.size + "'");
-  r.width = w;
-  r.height = h;
+  std::tie(r.width, r.height) = parse_image_size(s.size);
   r.samples_per_axis = s.samples;
   r.threads = s.threads;
   return r;
@@ -146,6 +144,25 @@ std::pair<int, int> rotation_plane(const std::string& spec) {
   return {static_cast<int>(axes.find(plane[0])), static_cast<int>(axes.find(plane[1]))};
 }
 
+// A progress bar on stderr for --animate, drawn only when stderr is a terminal (as sweep's).
+class AnimationProgress {
+ public:
+  explicit AnimationProgress(int total) : total_(total), enabled_(::isatty(2) != 0) {}
+  void step(int done) {
+    if (!enabled_) return;
+    constexpr int width = 40;
+    const int filled = total_ ? done * width / total_ : width;
+    std::fprintf(stderr, "\rcw4d: render [%s%s] %d/%d frames", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total_);
+    if (done == total_) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+
+ private:
+  int total_;
+  bool enabled_;
+};
+
 // An animated WebP of the section: a sweep of the plane across the input, a full turn of every
 // object in one plane about the origin, or the 3D camera orbiting the section's up axis.
 std::string run_animation(const RenderSettings& s, const Input& input, Placement& p) {
@@ -180,8 +197,15 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
     o.frame = render::scene_frame(input.scene, HyperplaneFrame(p.plane(s.offset)));
   }
   const glm::vec3 view0 = o.view_from;
-  std::vector<render::Image8> frames;
-  std::size_t empty = 0;
+  // Each frame is encoded as soon as it is drawn: memory holds one frame, not all of them.
+  render::AnimationOptions ao;
+  ao.frame_ms = s.frame_ms;
+  render::AnimationEncoder encoder(lower_extension(s.output) == ".gif"
+                                       ? render::AnimationEncoder::Format::Gif
+                                       : render::AnimationEncoder::Format::WebP,
+                                   o.raster.width, o.raster.height, ao);
+  AnimationProgress progress(s.frames);
+  int empty = 0;
   for (int i = 0; i < s.frames; ++i) {
     const double turn = 2.0 * std::numbers::pi * i / s.frames;
     Input in = input;
@@ -196,19 +220,15 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
     o.source = &in.scene;
     const Cut c = cut(in, p.plane(offsets[static_cast<std::size_t>(i)]));
     if (c.section.empty()) ++empty;
-    frames.push_back(
+    encoder.add(
         render::to_srgb8(render::render_section(c.section, o, single_model(in)), glm::vec3(1.0f)));
+    progress.step(i + 1);
   }
-  if (empty == frames.size())
+  if (empty == s.frames)
     throw EmptySection("the plane misses " + p.input_label() + " in every frame (it meets " +
                        offset_range(input, p.plane(s.offset)) + "); nothing written to '" +
                        s.output + "'");
-  render::AnimationOptions ao;
-  ao.frame_ms = s.frame_ms;
-  if (lower_extension(s.output) == ".gif")
-    render::write_gif_animation(s.output, frames, ao);
-  else
-    render::write_webp_animation(s.output, frames, ao);
+  write_file_atomically(s.output, encoder.finish());
   return "animation (" + std::to_string(s.frames) + " frames, " + s.animate + ")";
 }
 
@@ -220,7 +240,8 @@ void check_pixel_budget(const RenderSettings& s) {
   const render::RasterOptions r = raster_options(s);
   const int layers = s.layers > 0 ? s.layers : (s.mode == "sheet" ? 16 : 24);
   double images = s.mode == "sheet" ? 2.0 * layers : (s.mode == "stereo" || s.stereo) ? 4.0 : 1.0;
-  if (!s.animate.empty()) images = 1.0 + s.frames * 3.0 / 16.0;  // the 8-bit RGB frames kept
+  // An animation holds one frame and the encoder's canvases (8-bit ARGB) at a time.
+  if (!s.animate.empty()) images = 2.0;
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError(
@@ -241,7 +262,8 @@ void run_render(RenderSettings& s) {
   check_pixel_budget(s);
   const bool needs_plane =
       s.mode != "wireframe" && s.mode != "stereographic" && s.mode != "schlegel";
-  if (p.normal_text.empty()) {
+  const bool default_normal = p.normal_text.empty();
+  if (default_normal) {
     if (needs_plane) throw InputError("render --mode " + s.mode + " needs --normal");
     p.normal_text = "0,0,0,1";
   }
@@ -257,10 +279,14 @@ void run_render(RenderSettings& s) {
   } else if (lower_extension(s.output) != ".png") {
     throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
   }
+  // A normal nobody gave is checked against the model only once the model is known to be 4D:
+  // a 3D model is refused for its dimension, not for a --normal that was never typed.
+  if (default_normal) p.normal.clear();
   const Input input = load_input(p);
   if (input.dim() != 4)
-    throw InputError("render draws 4D models; " + p.input_label() + " lives in R^" +
-                     std::to_string(input.dim()));
+    throw InputError("render --mode " + s.mode + " draws 4D models; " + p.input_label() +
+                     " lives in R^" + std::to_string(input.dim()));
+  if (default_normal) p.normal = {0.0, 0.0, 0.0, 1.0};
   prepare_output_directory(s.output);
   const glm::vec3 background(1.0f);
   std::string what;

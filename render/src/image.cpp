@@ -1,12 +1,31 @@
 #include "cw4d/render/image.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
+#include <cstdlib>
+#include <limits>
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 #include "cw4d/render/color.hpp"
+
+namespace {
+
+// The most bytes one allocation of stb_image may take in the decode running on this thread
+// (0 outside decode_png). stb_image trusts the header and lets the zlib stream grow its buffer
+// up to 4 GiB; with this bound a stream that inflates beyond what the declared dimensions need
+// fails as "out of memory" inside stb, which decode_png reports as an unreadable PNG.
+thread_local std::size_t stbi_allocation_limit = 0;
+
+void* stbi_bounded_malloc(std::size_t n) {
+  return n <= stbi_allocation_limit ? std::malloc(n) : nullptr;
+}
+
+void* stbi_bounded_realloc(void* p, std::size_t n) {
+  return n <= stbi_allocation_limit ? std::realloc(p, n) : nullptr;
+}
+
+}  // namespace
 
 // stb_image_write / stb_image (public domain, Debian's libstb-dev headers), compiled here with
 // static linkage so no other translation unit sees their symbols.
@@ -24,6 +43,9 @@
 #include <stb_image_write.h>
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
+#define STBI_MALLOC(n) stbi_bounded_malloc(n)
+#define STBI_REALLOC(p, n) stbi_bounded_realloc(p, n)
+#define STBI_FREE(p) std::free(p)
 #define STBI_ONLY_PNG
 #include <stb_image.h>
 #if defined(__GNUC__)
@@ -111,23 +133,93 @@ void write_png(const std::string& path, const Image& image, glm::vec3 background
   write_png(path, to_srgb8(image, background));
 }
 
-Image8 read_png(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, "cannot open the PNG file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  const std::string data = s.str();
+std::optional<PngHeader> png_header(std::span<const unsigned char> b) {
+  // The signature, then the IHDR chunk: length 13, "IHDR", width and height (big-endian),
+  // bit depth, color type. Read here rather than by stb_image, which refuses dimensions it
+  // cannot decode without saying what they are.
+  static constexpr unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() < 26 || !std::equal(signature, signature + 8, b.begin())) return std::nullopt;
+  auto be32 = [&](std::size_t at) {
+    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
+           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  };
+  if (be32(8) != 13 || b[12] != 'I' || b[13] != 'H' || b[14] != 'D' || b[15] != 'R')
+    return std::nullopt;
+  const std::uint32_t w = be32(16), h = be32(20);
+  // The PNG specification bounds each side by 2^31 - 1.
+  if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu) return std::nullopt;
+  int channels = 0;
+  switch (b[25]) {
+    case 0:
+      channels = 1;
+      break;  // gray
+    case 2:
+      channels = 3;
+      break;  // RGB
+    case 3:
+      channels = 3;
+      break;  // palette (RGB, RGBA with a tRNS chunk)
+    case 4:
+      channels = 2;
+      break;  // gray + alpha
+    case 6:
+      channels = 4;
+      break;  // RGBA
+    default:
+      return std::nullopt;
+  }
+  return PngHeader{static_cast<int>(w), static_cast<int>(h), channels};
+}
+
+Image8 decode_png(std::span<const unsigned char> bytes, const std::string& name,
+                  std::uint64_t max_texels) {
+  max_texels = std::min(max_texels, max_png_texels);
+  if (bytes.size() > max_png_file_bytes)
+    throw ParseError(name, 0,
+                     "PNG of " + std::to_string(bytes.size()) + " bytes is larger than the " +
+                         std::to_string(max_png_file_bytes) + " bytes cw4d reads");
+  const std::optional<PngHeader> header = png_header(bytes);
+  if (!header) throw ParseError(name, 0, "not a PNG (no PNG signature and IHDR header)");
+  const std::uint64_t texels = std::uint64_t(header->width) * std::uint64_t(header->height);
+  if (texels > max_texels)
+    throw ParseError(name, 0,
+                     "PNG declares " + std::to_string(header->width) + "x" +
+                         std::to_string(header->height) + " = " + std::to_string(texels) +
+                         " texels, more than the " + std::to_string(max_texels) + " cw4d decodes");
+  // What stb_image allocates for these dimensions: the compressed data (grown by doubling),
+  // the inflated rows (up to 16-bit RGBA plus a filter byte per row) and the output; slack for
+  // its tables.
+  struct Limit {
+    explicit Limit(std::size_t n) { stbi_allocation_limit = n; }
+    ~Limit() { stbi_allocation_limit = 0; }
+  } limit(2 * bytes.size() + 9 * static_cast<std::size_t>(texels) +
+          static_cast<std::size_t>(header->height) + (std::size_t{1} << 20));
   int w = 0, h = 0, n = 0;
-  stbi_uc* pixels = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(data.data()),
-                                          static_cast<int>(data.size()), &w, &h, &n, 0);
-  if (!pixels) throw ParseError(path, 0, "not a readable PNG");
+  stbi_uc* pixels =
+      stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 0);
+  if (!pixels) {
+    const char* why = stbi_failure_reason();
+    throw ParseError(
+        name, 0, std::string("not a readable PNG") + (why ? std::string(" (") + why + ")" : ""));
+  }
+  struct Free {
+    stbi_uc* p;
+    ~Free() { stbi_image_free(p); }
+  } release{pixels};
+  if (static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) > max_texels || n < 1 || n > 4)
+    throw ParseError(name, 0, "not a readable PNG (its decoded size differs from its header)");
   Image8 out;
   out.width = w;
   out.height = h;
   out.channels = n;
   out.bytes.assign(pixels, pixels + static_cast<std::size_t>(w) * h * n);
-  stbi_image_free(pixels);
   return out;
+}
+
+Image8 read_png(const std::string& path) {
+  const std::string data = read_input_file(path, max_png_file_bytes);
+  return decode_png(std::span(reinterpret_cast<const unsigned char*>(data.data()), data.size()),
+                    path);
 }
 
 }  // namespace cw4d::render

@@ -7,8 +7,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <span>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/input_file.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/tolerances.hpp"
@@ -70,10 +72,27 @@ glm::vec3 ImageVolume::sample(glm::vec3 uvw) const {
 
 ImageVolume ImageVolume::from_png_slices(const std::vector<std::string>& paths) {
   if (paths.empty()) throw InputError("an image volume needs at least one PNG slice");
+  if (paths.size() > static_cast<std::size_t>(max_volume_slices))
+    throw InputError("an image volume has at most " + std::to_string(max_volume_slices) +
+                     " slices, not " + std::to_string(paths.size()));
   ImageVolume v;
   v.depth = static_cast<int>(paths.size());
+  std::uint64_t total = 0;
   for (std::size_t k = 0; k < paths.size(); ++k) {
-    const Image8 img = read_png(paths[k]);
+    const std::string data = read_input_file(paths[k], max_png_file_bytes);
+    const std::span bytes(reinterpret_cast<const unsigned char*>(data.data()), data.size());
+    // The slice's header against what the volume has left, before it is decoded: a stack of
+    // small files declaring large pictures is refused before its texels are allocated.
+    if (const auto header = png_header(bytes)) {
+      const std::uint64_t texels = std::uint64_t(header->width) * std::uint64_t(header->height);
+      if (texels <= max_png_texels && total + texels > max_volume_texels)
+        throw InputError("image volume slice '" + paths[k] + "' (" + std::to_string(header->width) +
+                         "x" + std::to_string(header->height) + ") brings the volume beyond the " +
+                         std::to_string(max_volume_texels) + " texels cw4d holds (" +
+                         std::to_string(paths.size()) + " slices)");
+      total += texels;
+    }
+    const Image8 img = decode_png(bytes, paths[k]);
     if (k == 0) {
       v.width = img.width;
       v.height = img.height;
@@ -147,6 +166,58 @@ glm::vec3 Texture3D::apply(glm::vec3 base, glm::vec3 uvw) const {
   return base * factor(uvw);
 }
 
+std::string SlicePattern::path(int i) const {
+  std::string digits = std::to_string(i);
+  if (digits.size() < static_cast<std::size_t>(width))
+    digits.insert(digits.begin(), static_cast<std::size_t>(width) - digits.size(), '0');
+  return prefix + digits + suffix;
+}
+
+SlicePattern parse_slice_pattern(std::string_view pattern) {
+  auto refuse = [&](const std::string& why) -> SlicePattern {
+    throw InputError("texture volume pattern '" + std::string(pattern) + "' " + why +
+                     " (write one %d or %0Nd with N = 1..9, and %% for a percent sign)");
+  };
+  if (pattern.size() > 4096) return refuse("is longer than 4096 characters");
+  SlicePattern p;
+  bool number = false;
+  std::string* text = &p.prefix;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') {
+      text->push_back(pattern[i]);
+      continue;
+    }
+    const std::size_t at = i;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      text->push_back('%');
+      ++i;
+      continue;
+    }
+    int width = 0;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '0') {
+      if (i + 3 < pattern.size() && pattern[i + 2] >= '1' && pattern[i + 2] <= '9' &&
+          pattern[i + 3] == 'd') {
+        width = pattern[i + 2] - '0';
+        i += 3;
+      } else {
+        return refuse("has '" + std::string(pattern.substr(at, 4)) + "' at character " +
+                      std::to_string(at + 1) + ", not %0Nd with one digit N = 1..9");
+      }
+    } else if (i + 1 < pattern.size() && pattern[i + 1] == 'd') {
+      i += 1;
+    } else {
+      return refuse("has '" + std::string(pattern.substr(at, 2)) + "' at character " +
+                    std::to_string(at + 1) + ", which is not %d, %0Nd or %%");
+    }
+    if (number) return refuse("has more than one number (%d)");
+    number = true;
+    p.width = width;
+    text = &p.suffix;
+  }
+  if (!number) return refuse("is neither a directory nor a pattern with a number (%d)");
+  return p;
+}
+
 namespace {
 
 std::vector<std::string> slice_paths(const std::string& pattern) {
@@ -154,23 +225,21 @@ std::vector<std::string> slice_paths(const std::string& pattern) {
   std::vector<std::string> out;
   std::error_code ec;
   if (fs::is_directory(pattern, ec)) {
+    // Every *.png entry, so that one that is not a regular file is refused by the reader
+    // rather than silently left out of the volume.
     for (const auto& e : fs::directory_iterator(pattern, ec))
-      if (e.is_regular_file() && e.path().extension() == ".png") out.push_back(e.path().string());
+      if (e.path().extension() == ".png") out.push_back(e.path().string());
     std::sort(out.begin(), out.end());
     if (out.empty()) throw InputError("no .png slices in the directory '" + pattern + "'");
     return out;
   }
-  const auto pos = pattern.find('%');
-  if (pos == std::string::npos || pattern.find('%', pos + 1) != std::string::npos ||
-      pattern.find('d', pos) == std::string::npos)
-    throw InputError("texture volume '" + pattern +
-                     "' is neither a directory nor a pattern with one %d");
-  for (int i = 0; i < 4096; ++i) {
-    char buf[4096];
-    if (std::snprintf(buf, sizeof buf, pattern.c_str(), i) >= static_cast<int>(sizeof buf))
-      throw InputError("texture volume pattern too long");
-    if (!fs::exists(buf, ec)) break;
-    out.emplace_back(buf);
+  const SlicePattern p = parse_slice_pattern(pattern);
+  for (int i = 0; i < max_volume_slices; ++i) {
+    std::string path = p.path(i);
+    // Whatever exists (a dangling link too) is taken, so that a slice that is not a regular
+    // file (a FIFO, a device) is reported by the reader instead of silently ending the volume.
+    if (!fs::exists(fs::symlink_status(path, ec))) break;
+    out.push_back(std::move(path));
   }
   if (out.empty())
     throw InputError("texture volume pattern '" + pattern + "' names no file (from number 0)");

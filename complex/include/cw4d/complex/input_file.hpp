@@ -16,7 +16,9 @@ std::uintmax_t check_input_file(const std::string& path);
 
 /// The whole content of the regular file at `path`.
 /// \throw ParseError(path, 0, reason) when it does not exist, is not a regular file (a
-///        directory, a device, a FIFO), is larger than max_input_file_bytes or cannot be read.
-std::string read_input_file(const std::string& path);
+///        directory, a device, a FIFO), is larger than `max_bytes` (at most
+///        max_input_file_bytes) or cannot be read.
+std::string read_input_file(const std::string& path,
+                            std::uintmax_t max_bytes = max_input_file_bytes);
 
 }  // namespace cw4d

@@ -5,6 +5,8 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,8 +54,34 @@ std::string encode_png(const Image8& image);
 void write_png(const std::string& path, const Image8& image);
 void write_png(const std::string& path, const Image& image, glm::vec3 background = glm::vec3(1.0f));
 
-/// Reads back a PNG written by write_png (for tests and tools): 8-bit, 3 or 4 channels.
-/// \throw IoError / ParseError.
+/// The largest PNG file read_png opens (256 MiB, an 8-bit RGBA image of max_png_texels stored
+/// uncompressed): checked on the open file before reading.
+inline constexpr std::uintmax_t max_png_file_bytes = std::uintmax_t{256} << 20;
+/// The most texels (width x height) a PNG may declare to be decoded (2^26, 8192 x 8192):
+/// checked on its header before anything is allocated for the pixels.
+inline constexpr std::uint64_t max_png_texels = std::uint64_t{1} << 26;
+
+/// What a PNG's header declares.
+struct PngHeader {
+  int width = 0, height = 0, channels = 0;
+};
+
+/// The header of PNG bytes, or nothing when they do not start like a PNG.
+std::optional<PngHeader> png_header(std::span<const unsigned char> bytes);
+
+/// Decodes PNG bytes to 8 bits per channel (1 gray, 2 gray + alpha, 3 RGB or 4 RGBA
+/// channels, as stored). `name` names the source in errors. The header is read first: more
+/// than `max_texels` texels (at most max_png_texels) are refused before decoding, and no
+/// allocation of the decoder may exceed what those dimensions need, so a small file declaring
+/// huge dimensions, or a compressed stream inflating far beyond them, fails cleanly.
+/// \throw ParseError(name, 0, reason) for bytes that are not a readable PNG or beyond the limits.
+Image8 decode_png(std::span<const unsigned char> bytes, const std::string& name = "PNG data",
+                  std::uint64_t max_texels = max_png_texels);
+
+/// Reads a PNG file (written by write_png, or a texture slice): a regular file of at most
+/// max_png_file_bytes, decoded by decode_png.
+/// \throw ParseError(path, 0, reason): missing, not a regular file (a FIFO, a device), too
+///        large, not a readable PNG or beyond max_png_texels.
 Image8 read_png(const std::string& path);
 
 }  // namespace cw4d::render

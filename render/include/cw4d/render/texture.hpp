@@ -23,9 +23,30 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace cw4d::render {
+
+/// The most texels an image volume holds over all its slices (2^25, 12 bytes each in memory):
+/// every slice's header is checked against what is left before the slice is decoded.
+inline constexpr std::uint64_t max_volume_texels = std::uint64_t{1} << 25;
+/// The most slices a PATTERN names (numbers 0 .. max_volume_slices - 1).
+inline constexpr int max_volume_slices = 4096;
+
+/// A numbered file name of an image volume, "slices/z%03d.png": the text around exactly one
+/// number, written in decimal and zero-padded to `width` digits (0: no padding).
+struct SlicePattern {
+  std::string prefix, suffix;
+  int width = 0;
+  /// The name of slice i >= 0 ("slices/z007.png").
+  std::string path(int i) const;
+};
+
+/// Parses a slice pattern without handing it to printf: it holds exactly one "%d" or "%0Nd"
+/// (N = 1..9), and "%%" for a literal percent sign; any other "%" is refused.
+/// \throw InputError naming the pattern and what is wrong with it.
+SlicePattern parse_slice_pattern(std::string_view pattern);
 
 /// width x height x depth texels, linear RGB, x fastest; texel (i, j, k) sits at
 /// uvw = ((i + 0.5) / width, (j + 0.5) / height, (k + 0.5) / depth).
@@ -39,8 +60,10 @@ struct ImageVolume {
   /// Trilinear filtering, clamped to the edge texels (uvw outside [0, 1] repeats the border).
   glm::vec3 sample(glm::vec3 uvw) const;
   /// Slices in order (w = 0 first), each a PNG of the same size (gray, gray+alpha, RGB or
-  /// RGBA; sRGB, alpha ignored); the PNG's top row is v = 1. \throw InputError for no slices
-  /// or slices of different sizes, ParseError for an unreadable PNG.
+  /// RGBA; sRGB, alpha ignored); the PNG's top row is v = 1. Each slice is read by read_png's
+  /// rules (a regular file within max_png_file_bytes and max_png_texels), and all together hold
+  /// at most max_volume_texels. \throw InputError for no slices, slices of different sizes or
+  /// more than max_volume_texels in all; ParseError for a slice that cannot be read.
   static ImageVolume from_png_slices(const std::vector<std::string>& paths);
 };
 
@@ -65,8 +88,9 @@ struct Texture3D {
 
 /// A texture from its command-line spelling: "checker[:SCALE]", "grid[:SCALE]", "wood[:SCALE]",
 /// "marble[:SCALE]", or "volume:PATTERN[:SCALE]" where PATTERN is a directory (its *.png in
-/// name order) or a printf pattern with one %d ("slices/z%03d.png", numbered from 0 until the
-/// first missing file). \throw InputError naming the spec.
+/// name order) or a slice pattern with one %d or %0Nd ("slices/z%03d.png", parse_slice_pattern;
+/// numbered from 0 until the first missing file). \throw InputError naming the spec;
+/// ParseError for a slice that cannot be read.
 Texture3D parse_texture(const std::string& spec);
 
 /// Which texture each face of a section gets: a cell's own, else its scene object's, else
