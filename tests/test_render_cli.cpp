@@ -2,6 +2,8 @@
 // built-ins and the example scene; bad requests exit with the documented codes and write nothing.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -309,4 +311,42 @@ TEST_CASE("cw4d render --mode schlegel draws every edge from outside one cell", 
   const Result flat = run(dir, {"render", "cube:3", "--mode", "schlegel", "-o", "c.png"});
   CHECK(flat.code == 1);
   CHECK(!fs::exists(dir / "c.png"));
+}
+
+TEST_CASE("cw4d render refuses hostile texture patterns, slices and sizes", "[render][cli]") {
+  TempDir dir;
+  auto one_line = [](const Result& r) {
+    return r.err.rfind("cw4d: error: ", 0) == 0 && r.err.find('\n') == r.err.size() - 1;
+  };
+  // A printf conversion in the pattern is a usage error, not a crash.
+  for (const std::string pattern : {"%nd", "%s%d", "z%d%d.png"}) {
+    const Result r = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--texture",
+                               "volume:" + pattern, "-o", "t.png"});
+    CAPTURE(pattern, r.err);
+    CHECK(r.code == 1);
+    CHECK(one_line(r));
+    CHECK(r.err.find("'" + pattern + "'") != std::string::npos);
+  }
+  // A FIFO slice and /dev/zero: exit 2 at once.
+  REQUIRE(::mkfifo((dir / "f0.png").c_str(), 0600) == 0);
+  fs::create_symlink("/dev/zero", dir / "z0.png");
+  for (const std::string pattern : {"f%d.png", "z%d.png"}) {
+    const Result r = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--texture",
+                               "volume:" + pattern, "-o", "t.png"});
+    CAPTURE(pattern, r.err);
+    CHECK(r.code == 2);
+    CHECK(one_line(r));
+    CHECK(r.err.find("not a regular file") != std::string::npos);
+  }
+  // A side beyond int is not wrapped around into a small one.
+  const Result big = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--size",
+                               "4294967297x600", "-o", "t.png"});
+  CHECK(big.code == 1);
+  CHECK(big.err.find("--size") != std::string::npos);
+  // Schlegel mode on a 2D model blames the model's dimension, not a --normal never given.
+  const Result sch = run(dir, {"render", "polygon:5", "--mode", "schlegel", "-o", "t.png"});
+  CHECK(sch.code == 1);
+  CHECK(sch.err.find("--normal") == std::string::npos);
+  CHECK(sch.err.find("R^2") != std::string::npos);
+  CHECK(!fs::exists(dir / "t.png"));
 }

@@ -6,6 +6,8 @@
 // layer stripes of voxel clouds at grazing views; animated WebP read back by libwebp's demuxer.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <gif_lib.h>
 #include <webp/demux.h>
 #include <Eigen/Geometry>
@@ -17,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -865,5 +868,142 @@ TEST_CASE("bounding-sphere pre-tests leave the visible edges of a crowded scene 
     CAPTURE(shown, all);
     CHECK(shown > 0.0);
     CHECK(shown < 0.99 * all);
+  }
+}
+
+namespace {
+
+// The CRC-32 of PNG chunks (ISO 3309), bit by bit: independent of the reader under test.
+std::uint32_t crc32_of(const std::string& bytes) {
+  std::uint32_t c = 0xffffffffu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+std::string be32(std::uint32_t v) {
+  return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+          static_cast<char>(v)};
+}
+
+std::string chunk(const std::string& type, const std::string& data) {
+  return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(crc32_of(type + data));
+}
+
+// A valid PNG header declaring width x height gray pixels, with one small IDAT (a zlib stream
+// of a few stored zero bytes) and IEND: a "bomb" of a few dozen bytes.
+std::string png_bomb(std::uint32_t width, std::uint32_t height) {
+  const std::string sig = "\x89PNG\r\n\x1a\n";
+  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x00\x00\x00\x00", 5);
+  // zlib: header 78 01, one final stored block of 6 zero bytes (a 2 x 2 picture's rows with
+  // their filter bytes), their Adler-32 (6 << 16 | 1).
+  const std::string idat("\x78\x01\x01\x06\x00\xf9\xff\x00\x00\x00\x00\x00\x00\x00\x06\x00\x01",
+                         17);
+  return sig + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
+}
+
+}  // namespace
+
+TEST_CASE("slice patterns are parsed, never handed to printf", "[render][texture]") {
+  const SlicePattern a = parse_slice_pattern("slices/z%03d.png");
+  CHECK(a.path(7) == "slices/z007.png");
+  CHECK(a.path(1234) == "slices/z1234.png");
+  CHECK(parse_slice_pattern("%d").path(42) == "42");
+  CHECK(parse_slice_pattern("100%%/s%d_%%.png").path(3) == "100%/s3_%.png");
+  CHECK(parse_slice_pattern("a%09db").path(5) == "a000000005b");
+  for (const char* bad : {"%nd", "%s%d", "a%d%d", "%x", "%", "a%", "%0d", "%010d", "%00d", "%5d",
+                          "%ld", "no number", "%%d", "%-3d", "%*d"}) {
+    CAPTURE(bad);
+    try {
+      parse_slice_pattern(bad);
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      CHECK(what.find(std::string("'") + bad + "'") != std::string::npos);
+      CHECK(what.find('\n') == std::string::npos);
+    }
+  }
+  // Through the texture spec: a pattern that printf would crash on is a usage error.
+  CHECK_THROWS_AS(parse_texture("volume:%nd"), InputError);
+  CHECK_THROWS_AS(parse_texture("volume:%s%s%s%s%d"), InputError);
+}
+
+TEST_CASE("PNG reads are bounded: regular files, bytes and texels", "[render][texture]") {
+  cw4d::test::TempDir dir("cw4d_test_render_png");
+  // A FIFO nobody writes to: refused at once, not waited on.
+  const std::string fifo = (dir / "fifo.png").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_AS(read_png(fifo), ParseError);
+  // /dev/zero through a link: not a regular file, nothing read.
+  std::filesystem::create_symlink("/dev/zero", dir / "zero.png");
+  CHECK_THROWS_AS(read_png((dir / "zero.png").string()), ParseError);
+  // A sparse file beyond the byte budget: refused from its size, before reading.
+  { std::ofstream(dir / "big.png").put('x'); }
+  std::filesystem::resize_file(dir / "big.png", max_png_file_bytes + 1);
+  CHECK_THROWS_AS(read_png((dir / "big.png").string()), ParseError);
+  // Bombs: a few dozen bytes declaring 100000 x 100000 (and 20000 x 20000, which stb_image's
+  // own limit lets through) are refused from the header, naming the dimensions.
+  for (const std::uint32_t side : {100000u, 20000u}) {
+    const std::string bomb = png_bomb(side, side);
+    CHECK(bomb.size() < 100);
+    const auto header =
+        png_header({reinterpret_cast<const unsigned char*>(bomb.data()), bomb.size()});
+    REQUIRE(header);
+    CHECK(header->width == static_cast<int>(side));
+    CHECK(header->channels == 1);
+    dir.write("bomb.png", bomb);
+    try {
+      read_png((dir / "bomb.png").string());
+      FAIL("decoded");
+    } catch (const ParseError& e) {
+      CHECK(std::string(e.what()).find(std::to_string(side) + "x" + std::to_string(side)) !=
+            std::string::npos);
+    }
+  }
+  // The same construction at a small size is a readable PNG (the test's bytes are valid).
+  const std::string small = png_bomb(2, 2);
+  const Image8 img =
+      decode_png({reinterpret_cast<const unsigned char*>(small.data()), small.size()});
+  CHECK(img.width == 2);
+  CHECK(img.height == 2);
+  CHECK(img.bytes == std::vector<std::uint8_t>(4, 0));
+  // An image volume: a FIFO slice is refused (not a hang, not the volume's end).
+  std::filesystem::rename(fifo, dir / "f0.png");
+  CHECK_THROWS_AS(parse_texture("volume:" + (dir / "f%d.png").string()), ParseError);
+  // 6000 x 6000 is within one PNG's budget (2^26) but beyond the volume's (2^25): refused
+  // from the header, where decoding would fail (the stream holds too few bytes).
+  const std::string slice = png_bomb(6000, 6000);
+  for (int k = 0; k < 3; ++k) dir.write("v" + std::to_string(k) + ".png", slice);
+  try {
+    parse_texture("volume:" + (dir / "v%d.png").string());
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("v0.png") != std::string::npos);
+    CHECK(std::string(e.what()).find("6000x6000") != std::string::npos);
+  }
+}
+
+TEST_CASE("an animation is encoded frame by frame", "[render][animation]") {
+  // The streaming encoder gives the same file as the one taking all frames, in both formats.
+  std::vector<Image8> frames;
+  for (int f = 0; f < 3; ++f) {
+    Image8 img;
+    img.width = 9;
+    img.height = 5;
+    for (int i = 0; i < 9 * 5 * 3; ++i) img.bytes.push_back(static_cast<std::uint8_t>(i * 7 + f));
+    frames.push_back(img);
+  }
+  for (const auto format : {AnimationEncoder::Format::WebP, AnimationEncoder::Format::Gif}) {
+    AnimationEncoder enc(format, 9, 5);
+    for (const auto& f : frames) enc.add(f);
+    CHECK(enc.frames() == 3);
+    const std::string streamed = enc.finish();
+    CHECK(streamed == (format == AnimationEncoder::Format::Gif ? encode_gif_animation(frames)
+                                                               : encode_webp_animation(frames)));
+    AnimationEncoder other(format, 8, 5);
+    CHECK_THROWS_AS(other.add(frames[0]), InputError);
+    CHECK_THROWS_AS(other.finish(), InputError);
   }
 }

@@ -97,3 +97,35 @@ def test_bad_arguments_of_the_other_calls():
         cw4d.write_png("unused.png", np.zeros((2, 2), np.uint8))
     with pytest.raises(cw4d.InputError, match="normal"):
         cw4d.section(t, ["a", 1, 2, 3], 0.0)
+
+
+def _png_chunk(kind: bytes, data: bytes) -> bytes:
+    import struct
+    import zlib
+
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def test_read_png_refuses_fifos_devices_and_bombs(tmp_path):
+    import os
+    import struct
+    import zlib
+
+    fifo = tmp_path / "fifo.png"
+    os.mkfifo(fifo)
+    with pytest.raises(cw4d.ParseError, match="not a regular file"):
+        cw4d.read_png(str(fifo))
+    zero = tmp_path / "zero.png"
+    zero.symlink_to("/dev/zero")
+    with pytest.raises(cw4d.ParseError, match="not a regular file"):
+        cw4d.read_png(str(zero))
+    # A valid PNG of a few dozen bytes declaring 100000 x 100000 gray pixels.
+    bomb = (
+        b"\x89PNG\r\n\x1a\n"
+        + _png_chunk(b"IHDR", struct.pack(">IIBBBBB", 100000, 100000, 8, 0, 0, 0, 0))
+        + _png_chunk(b"IDAT", zlib.compress(b"\0" * 4))
+        + _png_chunk(b"IEND", b"")
+    )
+    (tmp_path / "bomb.png").write_bytes(bomb)
+    with pytest.raises(cw4d.ParseError, match="100000x100000"):
+        cw4d.read_png(str(tmp_path / "bomb.png"))
