@@ -350,3 +350,15 @@ TEST_CASE("cw4d render refuses hostile texture patterns, slices and sizes", "[re
   CHECK(sch.err.find("R^2") != std::string::npos);
   CHECK(!fs::exists(dir / "t.png"));
 }
+
+TEST_CASE("cw4d render --animate refuses more work than it draws in reasonable time",
+          "[render][cli]") {
+  TempDir dir;
+  // 1000 frames of 16384 x 4000: within the pixels held at once (one frame), beyond the
+  // pixels drawn over all frames: refused up front, nothing written.
+  const Result r = run(dir, {"render", "tesseract", "--normal", "0,0,0,1", "--animate", "sweep",
+                             "--frames", "1000", "--size", "16384x4000", "-o", "a.webp"});
+  CHECK(r.code == 1);
+  CHECK(r.err.find("--frames") != std::string::npos);
+  CHECK(dir.entries() == 0);
+}

@@ -235,6 +235,7 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
 // The pixels a render holds at once (linear RGBA floats, 16 bytes each): a contact sheet keeps
 // every layer and the sheet, a stereo pair both views and the pair.
 constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
+constexpr double kMaxAnimationPixels = 8e8;
 
 void check_pixel_budget(const RenderSettings& s) {
   const render::RasterOptions r = raster_options(s);
@@ -242,6 +243,15 @@ void check_pixel_budget(const RenderSettings& s) {
   double images = s.mode == "sheet" ? 2.0 * layers : (s.mode == "stereo" || s.stereo) ? 4.0 : 1.0;
   // An animation holds one frame and the encoder's canvases (8-bit ARGB) at a time.
   if (!s.animate.empty()) images = 2.0;
+  // An animation's work: frames x pixels, bounded as the frames held once bounded it (about
+  // a minute and a half on one core at the limit; a progress bar shows on a terminal).
+  const double drawn = static_cast<double>(r.width) * r.height * s.frames;
+  if (!s.animate.empty() && drawn > kMaxAnimationPixels)
+    throw InputError("--animate with --size " + s.size + " and " + std::to_string(s.frames) +
+                     " frames would draw " + std::to_string(static_cast<long long>(drawn)) +
+                     " pixels; render animates at most " +
+                     std::to_string(static_cast<long long>(kMaxAnimationPixels)) +
+                     ": give a smaller --size or fewer --frames");
   const double held = static_cast<double>(r.width) * r.height * images;
   if (held > kMaxHeldPixels)
     throw InputError(
