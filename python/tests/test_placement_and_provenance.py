@@ -49,7 +49,7 @@ def scene_cutters(scene):
 def test_bad_normals_and_offsets_are_refused_everywhere(tesseract):
     scene = cw4d.parse_scene(SCENE)
     calls = {**cutters(tesseract), **scene_cutters(scene),
-             "_seconds_per_section": lambda n, d: cw4d._seconds_per_section(tesseract, n, d, 1)}
+             "_seconds_per_section": lambda n, d: cw4d._cw4d._seconds_per_section(tesseract, n, d, 1)}
     for name, cut in calls.items():
         for n in BAD_NORMALS:
             with pytest.raises(cw4d.InputError, match="normal is (zero|not finite)"):
@@ -100,7 +100,7 @@ def test_placements_beyond_doubles_are_refused_by_every_cut(tesseract):
     }
     for name, cut in cutters(tesseract).items():
         for message, t in placements.items():
-            with pytest.raises(cw4d.InputError, match="the model " + message.strip()):
+            with pytest.raises(cw4d.InputError, match="the model (has )?" + message.strip()):
                 cut(N, 0.0, t)
         # Within the bounds, scaled models cut like the model (volumes scale by s^3).
         for s in (1e90, 1e-90):
