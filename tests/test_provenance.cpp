@@ -62,8 +62,8 @@ TEST_CASE("provenance: ids beyond the model are refused by every reader", "[prov
   REQUIRE(max_cell(s) >= small.count(3));  // ids a reader would read beyond the small model
   // Without its fingerprint (a section built by hand), the ids alone give it away.
   s.source_fingerprint = 0;
-  const auto refused =
-      Contains("the section was not cut from this model (") && Contains(" >= ") && Contains(")");
+  // (A composed Catch2 v2 matcher kept in a variable would hold dangling references.)
+  const auto refused = Contains("the section was not cut from this model (");
   CHECK_THROWS_AS(check_provenance(s, small), InputError);
   CHECK_THROWS_WITH(check_provenance(s, small), refused);
   CHECK_THROWS_WITH(section_uvw(s, {&small}), refused);

@@ -132,12 +132,17 @@ void check_provenance(const Section& section, const std::vector<const Complex*>&
   const Checker check(models, scene);
   const bool vertices = section.vertex_source.size() == c.count(0);
   if (!scene) {
-    // One model: every id of every rank against it.
-    if (vertices)
-      for (const VertexSource& v : section.vertex_source) check.vertex(0, v);
+    // One model: every id of every rank against it, the cells (the ids readers index most)
+    // first so that the message names a cell when cells are out of range.
+    std::vector<std::size_t> ranks;
+    if (section.source.size() > 2) ranks.push_back(2);
     for (std::size_t k = 1; k < section.source.size(); ++k)
+      if (k != 2) ranks.push_back(k);
+    for (std::size_t k : ranks)
       if (static_cast<int>(k) <= c.top_rank() && section.source[k].size() == c.count(k))
         for (std::uint32_t id : section.source[k]) check.element(0, static_cast<int>(k) + 1, id);
+    if (vertices)
+      for (const VertexSource& v : section.vertex_source) check.vertex(0, v);
     return;
   }
   // A scene: each face's ids (its cell, its edges' model faces, its vertices' model vertices or
