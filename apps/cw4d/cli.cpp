@@ -14,6 +14,7 @@
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/placement.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
@@ -327,26 +328,14 @@ Input load_input(const Placement& placement) {
   const int dim = in.dim();
   placement.check_dimension(dim);
   if (!in.is_scene) in.scene.objects.front().transform = placement.model_to_world(dim);
-  // Coordinates are used as doubles: squared distances and 3-volumes of sections stay finite
-  // and nonzero only for sizes within 1e-100 .. 1e100. Refuse what lies outside (a scene scale
-  // of 1e155, a file in units of 1e200) instead of answering "the plane misses".
+  // Placed coordinates beyond what doubles cut (a scene scale of 1e155, a file in units of
+  // 1e200) are refused instead of answering "the plane misses": the library's one check.
   for (std::size_t i = 0; i < in.scene.objects.size(); ++i) {
     const SceneObject& obj = in.scene.objects[i];
-    const auto& pos = obj.complex->positions();
-    if (pos.cols() == 0) continue;
-    const Eigen::MatrixXd world =
-        (obj.transform.linear() * pos).colwise() + obj.transform.translation();
-    const double big = world.cwiseAbs().maxCoeff();
-    const double extent = (world.rowwise().maxCoeff() - world.rowwise().minCoeff()).maxCoeff();
-    const std::string what = in.is_scene ? "object " + std::to_string(i) + " (" + obj.model +
-                                               ") of scene '" + placement.scene + "'"
-                                         : "model '" + obj.model + "'";
-    if (!(big <= 1e100))
-      throw InputError(what + " has coordinates up to " + brief(big) +
-                       " once placed: cw4d cuts models within 1e100 of the origin (scale it down)");
-    if (!(extent >= 1e-100))
-      throw InputError(what + " spans only " + brief(extent) +
-                       " once placed: cw4d cuts models at least 1e-100 across (scale it up)");
+    check_placement(*obj.complex, obj.transform,
+                    in.is_scene ? "object " + std::to_string(i) + " (" + obj.model +
+                                      ") of scene '" + placement.scene + "'"
+                                : "model '" + obj.model + "'");
   }
   std::vector<const Complex*> checked;  // objects share models: validate each once
   for (const auto& obj : in.scene.objects) {

@@ -1,4 +1,5 @@
 // Complex, AffineTransform, validation, the model builders and the operators.
+#include <cmath>
 #include <sstream>
 
 #include "common.hpp"
@@ -46,6 +47,14 @@ py::array_t<double> matrix_copy(const Eigen::MatrixXd& m) {
   for (Eigen::Index i = 0; i < m.rows(); ++i)
     for (Eigen::Index j = 0; j < m.cols(); ++j) w(i, j) = m(i, j);
   return a;
+}
+
+// A transform built from Python numbers: NaN or infinite entries are refused here, where the
+// user typed them, rather than when a cut finds nothing.
+AffineTransform finite_transform(AffineTransform t, const char* what) {
+  if (!t.linear().allFinite() || !t.translation().allFinite())
+    throw InputError(std::string(what) + " must be finite (NaN or infinite entry)");
+  return t;
 }
 
 std::vector<std::uint32_t> to_ids(py::handle obj, const char* what) {
@@ -207,10 +216,11 @@ void bind_complex(py::module_& m) {
                                                          : to_vector(translation, "translation");
                if (t.size() != a.rows())
                  throw InputError("translation must have as many entries as linear has rows");
-               return AffineTransform(std::move(a), std::move(t));
+               return finite_transform(AffineTransform(std::move(a), std::move(t)),
+                                       "an AffineTransform");
              }
              Eigen::VectorXd t = to_vector(translation, "translation");
-             return AffineTransform::translation(t);
+             return finite_transform(AffineTransform::translation(t), "translation");
            }),
            py::arg("linear") = py::none(), py::arg("translation") = py::none(), py::arg("dim") = 4,
            "From an (n, n) matrix and an optional translation (numpy or sequences); with "
@@ -224,7 +234,8 @@ void bind_complex(py::module_& m) {
               throw InputError("matrix must be square, (n+1) x (n+1)");
             if (!h.row(n).head(n).isZero(0.0) || h(n, n) != 1.0)
               throw InputError("the last row of a homogeneous matrix must be (0, ..., 0, 1)");
-            return AffineTransform(h.topLeftCorner(n, n), h.col(n).head(n));
+            return finite_transform(AffineTransform(h.topLeftCorner(n, n), h.col(n).head(n)),
+                                    "matrix");
           },
           py::arg("matrix"), "From an (n+1, n+1) homogeneous matrix.")
       .def_static("identity", &AffineTransform::identity, py::arg("dim") = 4)
@@ -242,6 +253,7 @@ void bind_complex(py::module_& m) {
             if (i < 0 || j < 0 || i >= dim || j >= dim || i == j)
               throw InputError("rotation axes must be two distinct axes of R^" +
                                std::to_string(dim));
+            if (!std::isfinite(angle)) throw InputError("the rotation angle must be finite");
             return AffineTransform::rotation(
                 dim, i, j, degrees ? angle * 3.14159265358979323846 / 180.0 : angle);
           },
@@ -250,14 +262,17 @@ void bind_complex(py::module_& m) {
           "towards e_j by angle (radians unless degrees=True).")
       .def_static(
           "translation",
-          [](py::object t) { return AffineTransform::translation(to_vector(t, "translation")); },
+          [](py::object t) {
+            return finite_transform(AffineTransform::translation(to_vector(t, "translation")),
+                                    "translation");
+          },
           py::arg("t"))
       .def_static(
           "scale",
           [](py::object s, int dim) {
             if (py::isinstance<py::float_>(s) || py::isinstance<py::int_>(s))
-              return AffineTransform::scale(dim, s.cast<double>());
-            return AffineTransform::scale(to_vector(s, "scale"));
+              return finite_transform(AffineTransform::scale(dim, s.cast<double>()), "scale");
+            return finite_transform(AffineTransform::scale(to_vector(s, "scale")), "scale");
           },
           py::arg("s"), py::arg("dim") = 4, "Uniform (a number) or per-axis (a sequence) scale.")
       .def_property_readonly("dim", &AffineTransform::dim)
@@ -283,7 +298,10 @@ void bind_complex(py::module_& m) {
           "The (n+1, n+1) homogeneous matrix (a new array).")
       .def("inverse", &AffineTransform::inverse)
       .def("is_identity", &AffineTransform::is_identity)
-      .def("__matmul__", [](const AffineTransform& a, const AffineTransform& b) { return a * b; })
+      .def("__matmul__",
+           [](const AffineTransform& a, const AffineTransform& b) {
+             return finite_transform(a * b, "the product of the transforms");
+           })
       .def(
           "apply",
           [](const AffineTransform& t, py::object points) {

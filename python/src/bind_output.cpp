@@ -13,6 +13,7 @@
 #include "cw4d/export/svg.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/section_view.hpp"
+#include "cw4d/section/provenance.hpp"
 #include "cw4d/section/uvw.hpp"
 
 namespace cw4d::python {
@@ -52,9 +53,14 @@ Models models_of(py::handle obj) {
 
 // Texture coordinates of the section (what the CLI writes unless --no-uvw), when its models
 // are given and it has polygons.
+// A model that is not the section's source is refused (InputError) before anything is
+// written: section_uvw checks the provenance, and without polygons it is checked here.
 bool corner_uvw(const Section& s, const Models& models, CornerUvw& out) {
-  if (models.models.empty() || s.complex.ambient_dim() != 3 || s.complex.top_rank() < 2)
+  if (models.models.empty()) return false;
+  if (s.complex.ambient_dim() != 3 || s.complex.top_rank() < 2) {
+    check_provenance(s, models.models);
     return false;
+  }
   out = section_uvw(s, models.models);
   return true;
 }
@@ -70,12 +76,6 @@ glm::vec3 vec3(py::handle obj, const char* what) {
   return {static_cast<float>(v(0)), static_cast<float>(v(1)), static_cast<float>(v(2))};
 }
 
-Eigen::Vector3d vector3(py::handle obj, const char* what) {
-  const Eigen::VectorXd v = to_vector(obj, what);
-  if (v.size() != 3) throw InputError(std::string(what) + " takes 3 components");
-  return v;
-}
-
 std::string lower_extension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -87,8 +87,8 @@ SvgOptions svg_options(int width, int height, py::object view_from, py::object l
   SvgOptions o;
   o.width = width;
   o.height = height;
-  if (!view_from.is_none()) o.view_from = vector3(view_from, "view_from");
-  if (!light_from.is_none()) o.light_from = vector3(light_from, "light_from");
+  if (!view_from.is_none()) o.view_from = direction3(view_from, "view_from");
+  if (!light_from.is_none()) o.light_from = direction3(light_from, "light_from");
   o.edges = edges;
   return o;
 }
@@ -232,7 +232,11 @@ void bind_output(py::module_& m) {
         else if (projection != "perspective")
           throw InputError("projection must be 'perspective' or 'orthographic', not '" +
                            projection + "'");
-        if (!view_from.is_none()) o.view_from = vec3(view_from, "view_from");
+        if (!view_from.is_none()) {
+          const Eigen::Vector3d d = direction3(view_from, "view_from");
+          o.view_from = {static_cast<float>(d(0)), static_cast<float>(d(1)),
+                         static_cast<float>(d(2))};
+        }
         o.edges = edges;
         o.cull_back_faces = cull_back_faces;
         const glm::vec3 bg = vec3(background, "background");

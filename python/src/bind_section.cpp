@@ -28,6 +28,14 @@ double facet_measure(const Complex& c) {
   return sum;
 }
 
+// Thread safety of the bound objects whose methods release the GIL. Complex, Section,
+// SliceModel, Scene and AffineTransform are immutable from Python (read-only properties, no
+// mutating method) and the C++ they call only reads them (the per-thread caches of section()
+// are thread_local), so any number of threads may share them. Slicer and SceneSlicer own
+// scratch space that every call rewrites: they refuse a second thread with ValueError instead
+// of racing (each holds a mutex taken with try_lock, for the call and for the properties that
+// read the scratch state).
+
 // One Slicer with its buffers, used by one thread at a time.
 struct PySlicer {
   Slicer slicer;
@@ -36,12 +44,21 @@ struct PySlicer {
   std::mutex busy;
 };
 
+// A SceneSlicer (its placements, touched list and per-object buffers change on every slice),
+// used by one thread at a time.
+struct PySceneSlicer {
+  SceneSlicer slicer;
+  std::mutex busy;
+  PySceneSlicer(const Scene& scene, const SliceModelOptions& o) : slicer(scene, o) {}
+};
+
+// Holds `m` for the scope, or raises ValueError naming the class when another thread holds it.
 class Busy {
  public:
-  explicit Busy(std::mutex& m) : lock_(m, std::try_to_lock) {
+  Busy(std::mutex& m, const char* type) : lock_(m, std::try_to_lock) {
     if (!lock_.owns_lock())
-      throw py::value_error(
-          "this Slicer is cutting on another thread: give every thread its own Slicer");
+      throw py::value_error(std::string("this ") + type +
+                            " is cutting on another thread: give every thread its own " + type);
   }
 
  private:
@@ -242,6 +259,7 @@ void bind_section(py::module_& m) {
                   const std::optional<AffineTransform>& transform) {
               const Hyperplane plane = to_plane(normal, offset);
               const AffineTransform xf = or_identity(transform, model.ambient_dim());
+              check_model_placement(model, xf);
               py::gil_scoped_release nogil;
               return cut(model, plane, xf);
             },
@@ -260,6 +278,7 @@ void bind_section(py::module_& m) {
       [](const Complex& model, py::object normal, double offset, std::size_t calls) {
         const Hyperplane plane = to_plane(normal, offset);
         const AffineTransform xf(model.ambient_dim());
+        check_model_placement(model, xf);
         py::gil_scoped_release nogil;
         std::size_t sink = 0;
         const auto t0 = std::chrono::steady_clock::now();
@@ -306,7 +325,8 @@ void bind_section(py::module_& m) {
              const std::optional<AffineTransform>& transform, bool reuse_topology, bool cull) {
             const Hyperplane plane = to_plane(normal, offset);
             const AffineTransform xf = or_identity(transform, model.dim());
-            Busy busy(s.busy);
+            check_model_placement(model.complex(), xf);
+            Busy busy(s.busy, "Slicer");
             py::gil_scoped_release nogil;
             SliceOptions o;
             o.cull = cull;
@@ -325,7 +345,8 @@ void bind_section(py::module_& m) {
             const Eigen::VectorXd n = to_vector(normal, "normal");
             const std::vector<double> d = to_offsets(offsets);
             const AffineTransform xf = or_identity(transform, model.dim());
-            Busy busy(s.busy);
+            check_model_placement(model.complex(), xf);
+            Busy busy(s.busy, "Slicer");
             std::vector<Section> out;
             {
               py::gil_scoped_release nogil;
@@ -347,7 +368,8 @@ void bind_section(py::module_& m) {
             const Eigen::VectorXd n = to_vector(normal, "normal");
             const std::vector<double> d = to_offsets(offsets);
             const AffineTransform xf = or_identity(transform, model.dim());
-            Busy busy(s.busy);
+            check_model_placement(model.complex(), xf);
+            Busy busy(s.busy, "Slicer");
             std::vector<double> volumes;
             {
               py::gil_scoped_release nogil;
@@ -363,13 +385,25 @@ void bind_section(py::module_& m) {
           "The section volume of every layer of a sweep, a new float64 array; all of it runs "
           "without the GIL.")
       .def_property_readonly(
-          "reused_topology", [](const PySlicer& s) { return s.buffers.reused_topology; },
+          "reused_topology",
+          [](PySlicer& s) {
+            Busy busy(s.busy, "Slicer");
+            return s.buffers.reused_topology;
+          },
           "Whether the topology cache answered the last slice().")
       .def_property_readonly(
-          "fast_slices", [](const PySlicer& s) { return s.slicer.fast_slices(); },
+          "fast_slices",
+          [](PySlicer& s) {
+            Busy busy(s.busy, "Slicer");
+            return s.slicer.fast_slices();
+          },
           "Fast-path slices since construction.")
       .def_property_readonly(
-          "cached_slices", [](const PySlicer& s) { return s.slicer.cached_slices(); },
+          "cached_slices",
+          [](PySlicer& s) {
+            Busy busy(s.busy, "Slicer");
+            return s.slicer.cached_slices();
+          },
           "How many of them the topology cache answered.");
 
   py::class_<SceneObject>(m, "SceneObject", "One placed, colored model of a Scene.")
@@ -395,30 +429,32 @@ void bind_section(py::module_& m) {
         return "<cw4d.Scene of " + std::to_string(s.objects.size()) + " objects in R^" +
                std::to_string(s.dim()) + ">";
       });
-  py::class_<SceneSlicer>(
+  py::class_<PySceneSlicer>(
       m, "SceneSlicer",
       "A Scene compiled for repeated slicing (one SliceModel per distinct model, each "
-      "object's placement copied, bounding-sphere culling). Keeps the Scene alive. Not for "
-      "two threads at once.")
+      "object's placement copied, bounding-sphere culling). Keeps the Scene alive. One per "
+      "thread: a SceneSlicer used by two threads at once raises ValueError.")
       .def(py::init([](const Scene& scene, bool clustered) {
+             check_scene_placement(scene);
              py::gil_scoped_release nogil;
-             return std::make_unique<SceneSlicer>(
+             return std::make_unique<PySceneSlicer>(
                  scene, clustered ? SliceModelOptions{} : SliceModelOptions::unclustered());
            }),
            py::arg("scene"), py::arg("clustered") = true, py::keep_alive<1, 2>())
-      .def("__len__", &SceneSlicer::size)
+      .def("__len__", [](const PySceneSlicer& s) { return s.slicer.size(); })
       .def(
           "slice",
-          [](SceneSlicer& s, py::object normal, double offset, unsigned threads, bool cull) {
+          [](PySceneSlicer& s, py::object normal, double offset, unsigned threads, bool cull) {
             const Hyperplane plane = to_plane(normal, offset);
+            Busy busy(s.busy, "SceneSlicer");
             std::vector<Section> out;
             {
               py::gil_scoped_release nogil;
               SceneSlice cut;
               SliceOptions o;
               o.cull = cull;
-              s.slice(plane, cut, threads, o);
-              out = to_sections(cut, s.size());
+              s.slicer.slice(plane, cut, threads, o);
+              out = to_sections(cut, s.slicer.size());
             }
             py::list result;
             for (Section& sec : out) result.append(py::cast(std::move(sec)));
@@ -427,8 +463,13 @@ void bind_section(py::module_& m) {
           py::arg("normal"), py::arg("offset"), py::arg("threads") = 1, py::arg("cull") = true,
           "The Section of every object (empty when the plane misses it), as section_objects() "
           "gives them; threads > 1 (0: all cores) cuts objects in parallel.")
-      .def_property_readonly("touched", &SceneSlicer::touched,
-                             "Objects the last slice() did not cull.");
+      .def_property_readonly(
+          "touched",
+          [](PySceneSlicer& s) {
+            Busy busy(s.busy, "SceneSlicer");
+            return s.slicer.touched();
+          },
+          "Objects the last slice() did not cull.");
 
   m.def(
       "read_scene",
@@ -452,6 +493,7 @@ void bind_section(py::module_& m) {
       "section_scene",
       [](const Scene& scene, py::object normal, double offset) {
         const Hyperplane plane = to_plane(normal, offset);
+        check_scene_placement(scene);
         py::gil_scoped_release nogil;
         return section_scene(scene, plane);
       },
@@ -461,6 +503,7 @@ void bind_section(py::module_& m) {
       "section_objects",
       [](const Scene& scene, py::object normal, double offset) {
         const Hyperplane plane = to_plane(normal, offset);
+        check_scene_placement(scene);
         py::gil_scoped_release nogil;
         return section_objects(scene, plane);
       },

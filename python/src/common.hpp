@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/section/hyperplane.hpp"
 
@@ -65,6 +66,14 @@ Eigen::MatrixXd to_points(py::handle obj, int n, const char* what);
 Hyperplane to_plane(py::handle normal, double offset);
 /// The transform or the identity of dimension dim.
 AffineTransform or_identity(const std::optional<AffineTransform>& t, int dim);
+/// The CLI's check of a placement (check_placement), for a model cut from Python: a transform
+/// that is not finite, or that puts the model beyond 1e100 or makes it thinner than 1e-100,
+/// raises InputError instead of giving an empty section.
+void check_model_placement(const Complex& model, const AffineTransform& model_to_world);
+/// check_placement of every object of a scene, named "object i (spec) of the scene".
+void check_scene_placement(const Scene& scene);
+/// A finite, nonzero direction of 3 components (view_from, light_from). \throw InputError
+Eigen::Vector3d direction3(py::handle obj, const char* what);
 
 void bind_complex(py::module_& m);
 void bind_section(py::module_& m);

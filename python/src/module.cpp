@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "common.hpp"
+#include "cw4d/complex/placement.hpp"
 
 namespace cw4d::python {
 
@@ -53,6 +54,30 @@ Hyperplane to_plane(py::handle normal, double offset) {
 
 AffineTransform or_identity(const std::optional<AffineTransform>& t, int dim) {
   return t ? *t : AffineTransform(dim);
+}
+
+void check_model_placement(const Complex& model, const AffineTransform& model_to_world) {
+  check_placement(model, model_to_world, "the model");
+}
+
+void check_scene_placement(const Scene& scene) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    check_placement(*o.complex, o.transform,
+                    "object " + std::to_string(i) + " (" + o.model + ") of the scene");
+  }
+}
+
+Eigen::Vector3d direction3(py::handle obj, const char* what) {
+  const Eigen::VectorXd v = to_vector(obj, what);
+  if (v.size() != 3) throw InputError(std::string(what) + " takes 3 components");
+  if (!v.allFinite()) throw InputError(std::string(what) + " must be finite");
+  const double big = v.cwiseAbs().maxCoeff();
+  if (big == 0.0) throw InputError(std::string(what) + " must not be the zero vector");
+  // Brought near unit length by a power of two (exact), as the CLI does, so that 1e300 or
+  // 1e-300 components become neither infinite nor zero in float cameras and squared lengths.
+  const int e = std::ilogb(big);
+  return v.unaryExpr([e](double x) { return std::scalbn(x, -e); });
 }
 
 namespace {

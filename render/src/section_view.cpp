@@ -9,6 +9,7 @@
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/render/color.hpp"
+#include "cw4d/section/provenance.hpp"
 #include "cw4d/section/uvw.hpp"
 
 namespace cw4d::render {
@@ -70,6 +71,8 @@ TriangleMesh section_mesh(const Section& section, const Complex* model, const Sc
   for (const auto& o : source.objects) models.push_back(o.complex.get());
   if (models.empty())
     throw InputError("4D light and textures need the scene the section came from");
+  // The cell ids index the objects' models (normals, textures): they must be theirs.
+  check_provenance(section, models);
   const bool textured = textures && !textures->empty();
   CornerUvw uvw;
   if (textured) uvw = section_uvw(section, models);
@@ -138,6 +141,8 @@ TriangleMesh section_mesh(const Section& section, const Complex* model) {
   const auto& face_colors = c.colors(2);
   const bool have_face_colors = face_colors.size() == nf;
   const bool have_source = section.source.size() > 2 && section.source[2].size() == nf;
+  // The cell ids index the model's colors: refuse a model the section was not cut from.
+  if (model) check_provenance(section, *model);
   const bool have_cell_colors =
       model && have_source && model->colors(3).size() == model->count(3) && model->count(3) > 0;
   for (std::uint32_t f = 0; f < nf; ++f) {

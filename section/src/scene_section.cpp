@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/section/provenance.hpp"
 #include "cw4d/section/slicer.hpp"
 
 namespace cw4d {
@@ -30,6 +31,9 @@ Section merge_sections(const Scene& scene, const std::vector<Section>& pieces) {
   const int dim = pieces.front().complex.ambient_dim();  // the section's, one less than models'
   out.frame = pieces.front().frame;
   out.complex = Complex(dim);
+  std::vector<const Complex*> models;
+  for (const SceneObject& o : scene.objects) models.push_back(o.complex.get());
+  out.source_fingerprint = models_fingerprint(models);
   out.source.resize(1);
 
   int top = 0;

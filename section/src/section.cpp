@@ -1,5 +1,7 @@
 #include "cw4d/section/section.hpp"
 
+#include "cw4d/section/provenance.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
@@ -780,6 +782,7 @@ Section general_cut(const Complex& model, const Hyperplane& plane, const AffineT
   const bool reflect = lu.determinant() < 0.0;
   if ((reflect != (n % 2 == 1)) && ofr >= 1)
     for (std::uint32_t f = 0; f < sec.complex.count(ofr); ++f) sec.complex.flip(ofr, f);
+  sec.source_fingerprint = model_fingerprint(model);
   if (sec.complex.top_rank() >= n - 1 && n - 1 >= 2) {
     Incidence& solids = sec.complex.boundary_mut(n - 1);
     for (std::uint32_t i = 0; i < solids.size(); ++i)

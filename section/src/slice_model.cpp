@@ -17,6 +17,7 @@
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/section/provenance.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
 
@@ -84,6 +85,7 @@ std::atomic<std::uint64_t> next_serial{1};
 SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
     : model_(&model), serial_(next_serial.fetch_add(1, std::memory_order_relaxed)) {
   check_tables(model);
+  fingerprint_ = model_fingerprint(model);
   const int n = model.ambient_dim();
   dim_ = n;
   top_ = model.top_rank();

@@ -59,6 +59,7 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
 void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
                         const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options) {
   pl.plane = &plane;  // (a scene's cached placement was made for an equal plane)
+  out.source_fingerprint = m.fingerprint_;
   near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
   pl.set_offset(m, plane.offset);
   if (options.reuse_topology && reuse(m, pl, options, out)) {
@@ -72,6 +73,7 @@ void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& pl
 
 void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
                           SliceBuffers& out) {
+  out.source_fingerprint = m.fingerprint_;
   if (xf)
     general_slice(m, plane, *xf, out);
   else
@@ -828,6 +830,7 @@ Section to_section_untested(const SliceBuffers& b) {
   } else {
     sec.frame = HyperplaneFrame(b.plane);
   }
+  sec.source_fingerprint = b.source_fingerprint;
   if (sec.complex.ambient_dim() != dim) sec.complex = Complex(dim);
   Complex& c = sec.complex;
   const Eigen::Index nv = static_cast<Eigen::Index>(b.vertex_source.size());

@@ -57,6 +57,7 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
     if (!std::isfinite(d)) throw InputError("hyperplane offset is not finite");
   check_section_input(m.complex(), proto, xf);
   out.resize(offsets.size());
+  for (SliceBuffers& b : out) b.source_fingerprint = m.fingerprint_;
   std::vector<std::uint32_t>& order = sweep_order_;
   order.resize(offsets.size());
   std::iota(order.begin(), order.end(), 0u);

@@ -3,7 +3,9 @@
 #include <limits>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/index.hpp"
 #include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/provenance.hpp"
 
 namespace cw4d {
 
@@ -41,6 +43,8 @@ CornerUvw section_uvw(const Section& section, const std::vector<const Complex*>&
       section.vertex_source.size() != c.count(0))
     throw InputError(
         "texture coordinates of a section need its provenance (cut it with section())");
+  // The ids below index the models' arrays: they must be the models' own.
+  check_provenance(section, models);
   const bool per_object = section.object_of_face.size() == nf && nf > 0;
   std::vector<std::vector<FacetTextureMap>> maps(models.size());
   CornerUvw out;
@@ -54,7 +58,7 @@ CornerUvw section_uvw(const Section& section, const std::vector<const Complex*>&
       throw InputError("texture coordinates: no model for scene object " + std::to_string(object));
     const Complex& model = *models[object];
     if (maps[object].empty()) maps[object] = facet_texture_maps(model);
-    const FacetTextureMap& map = maps[object].at(section.source[2][f]);
+    const FacetTextureMap& map = maps[object][section.source[2][f]];
     std::uint32_t k = out.offset[f];
     for (std::uint32_t v : c.face_cycle(f)) {
       const VertexSource& src = section.vertex_source[v];
@@ -62,6 +66,10 @@ CornerUvw section_uvw(const Section& section, const std::vector<const Complex*>&
       if (src.rank == 0) {
         x = model.position(src.element);
       } else {
+        if (src.element == no_index)
+          throw InputError(
+              "texture coordinates: section vertex " + std::to_string(v) +
+              " lies on no model edge (a tetrahedral cut: take its own texture coordinates)");
         const auto ends = model.edge(src.element);
         x = (1.0 - src.t) * model.position(ends[0]) + src.t * model.position(ends[1]);
       }

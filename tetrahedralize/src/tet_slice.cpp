@@ -17,6 +17,7 @@
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/tolerances.hpp"
+#include "cw4d/section/provenance.hpp"
 
 namespace cw4d {
 
@@ -1065,6 +1066,7 @@ Section to_section(const TetSection& slice, const Complex& model) {
   }
   Section sec;
   sec.frame = slice.frame;
+  sec.source_fingerprint = model_fingerprint(model);
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> index;
   ComplexSoup soup;
   soup.ambient_dim = 3;

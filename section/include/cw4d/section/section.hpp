@@ -32,6 +32,11 @@ struct Section {
   /// Set by section_scene: the scene object each face (rank-2 element) was cut from, i.e. whose
   /// model the ids in `source` refer to. Empty for the section of a single model.
   std::vector<std::uint32_t> object_of_face;
+  /// A fingerprint of the model(s) the ids in vertex_source and source refer to
+  /// (models_fingerprint, provenance.hpp): the readers of provenance check it against the
+  /// model they are given, which catches a model of another shape even when its ids are in
+  /// range. 0: not known (a section built by hand), not checked.
+  std::uint64_t source_fingerprint = 0;
 
   /// Set by section() for a 3D section that is not an embedded surface (self_intersects):
   /// the cut of a star polychoron or of self-intersecting cells. The faces are still right as

@@ -101,7 +101,8 @@ class SliceModel {
     std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
   };
   const Complex* model_;
-  std::uint64_t serial_;  // unique per SliceModel constructed, for the topology cache
+  std::uint64_t serial_;           // unique per SliceModel constructed, for the topology cache
+  std::uint64_t fingerprint_ = 0;  // model_fingerprint(*model_), handed to every slice
   int dim_ = 0;
   int top_ = 0;
   bool fast_ = false;
@@ -198,7 +199,8 @@ struct SliceBuffers {
   std::vector<double> facet_normals;               ///< dim per facet (rank dim - 1), unit
   bool general = false;  ///< true when the general path made these buffers
   FallbackReason fallback = FallbackReason::None;  ///< why, when general
-  bool reused_topology = false;  ///< true when the topology cache answered the last slice
+  bool reused_topology = false;          ///< true when the topology cache answered the last slice
+  std::uint64_t source_fingerprint = 0;  ///< model_fingerprint of the model sliced
 
   std::size_t count(int rank) const {
     if (rank < 0) return 0;
