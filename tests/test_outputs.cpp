@@ -88,7 +88,7 @@ std::vector<Group> groups() {
        "out/layer_000.4off",
        "out/layer_001.4off",
        "out/layer_002.4off",
-       "4OFF"},
+       "OFF"},
       {"a render frame",
        {"render", "tesseract", "--mode", "frames", "--normal", "0,0,0,1", "--layers", "3", "--size",
         "8x6", "--samples", "1", "-o", "out/f.png"},
