@@ -15,6 +15,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/placement.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
@@ -40,6 +41,13 @@ std::string one_line(std::string s) {
   for (auto& ch : s)
     if (ch == '\n' || ch == '\r') ch = ' ';
   return s;
+}
+
+std::string bounded_message(const std::string& message) {
+  if (message.size() <= kMaxMessageBytes) return message;
+  std::size_t end = kMaxMessageBytes;
+  while (end > 0 && (static_cast<unsigned char>(message[end]) & 0xC0) == 0x80) --end;
+  return message.substr(0, end) + "... (" + std::to_string(message.size()) + " bytes)";
 }
 
 std::string exact(double v) {
@@ -69,8 +77,9 @@ double parse_number(std::string_view text, const std::string& what) {
   double v = 0.0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
-    throw InputError(what + ": '" + std::string(text) + "' is not a number");
-  if (!std::isfinite(v)) throw InputError(what + ": '" + std::string(text) + "' is not finite");
+    throw InputError(what + ": " + quote_user_text(std::string(text)) + " is not a number");
+  if (!std::isfinite(v))
+    throw InputError(what + ": " + quote_user_text(std::string(text)) + " is not finite");
   return v;
 }
 
@@ -134,7 +143,7 @@ std::string describe_counts(const Complex& c) {
 
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& names) {
   const std::string guess = closest_name(word, names);
-  return guess.empty() ? std::string() : "; did you mean '" + guess + "'?";
+  return guess.empty() ? std::string() : "; did you mean " + quote_user_text(guess) + "?";
 }
 
 std::vector<std::string> subcommand_names(CLI::App& app) {
@@ -171,8 +180,9 @@ void require_valid(const Complex& model, const std::string& spec) {
     if (const std::size_t line = lines.line_of(first.rank, first.id))
       where = spec + ":" + std::to_string(line) + ": ";
   }
-  throw TopologyError(first.rank, {first.id},
-                      where + "model '" + spec + "' is not a valid complex: " + report.summary());
+  throw TopologyError(
+      first.rank, {first.id},
+      where + "model " + quote_user_text(spec) + " is not a valid complex: " + report.summary());
 }
 
 // Creating missing parent directories is a convenience (documented in --help); failing to
@@ -184,8 +194,8 @@ void prepare_output_directory(const std::string& path) {
   if (fs::is_directory(parent, ec)) return;
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent))
-    throw IoError("cannot write '" + path + "': cannot create directory '" + parent.string() + "'" +
-                  (ec ? ": " + ec.message() : ""));
+    throw IoError("cannot write " + quote_user_text(path) + ": cannot create directory " +
+                  quote_user_text(parent.string()) + (ec ? ": " + ec.message() : ""));
 }
 
 // --- placement -------------------------------------------------------------------------------
@@ -195,11 +205,12 @@ namespace {
 Rotation parse_rotation(const std::string& text) {
   const std::size_t colon = text.find(':');
   if (colon == std::string::npos)
-    throw InputError("--rotate '" + text + "': expected PLANE:DEGREES, e.g. xw:30");
+    throw InputError("--rotate " + quote_user_text(text) + ": expected PLANE:DEGREES, e.g. xw:30");
   Rotation r;
   r.text = text;
   std::tie(r.axis_i, r.axis_j) = parse_rotation_plane(text.substr(0, colon));
-  r.degrees = parse_number(std::string_view(text).substr(colon + 1), "--rotate '" + text + "'");
+  r.degrees =
+      parse_number(std::string_view(text).substr(colon + 1), "--rotate " + quote_user_text(text));
   // Whole turns removed exactly (fmod is exact), so that 1e308 degrees is a rotation like any
   // other instead of overflowing when turned into radians.
   r.degrees = std::fmod(r.degrees, 360.0);
@@ -231,8 +242,8 @@ void Placement::add_options(CLI::App& cmd) {
 
 void Placement::parse(const std::string& command) {
   if (!scene.empty() && !model.empty())
-    throw InputError("give a MODEL or --scene, not both ('" + model + "' and --scene " + scene +
-                     ")");
+    throw InputError("give a MODEL or --scene, not both (" + quote_user_text(model) +
+                     " and --scene " + scene + ")");
   if (scene.empty() && model.empty()) throw InputError(command + " needs a MODEL or --scene FILE");
   // A scene places its objects itself; a second transform on top would be ambiguous.
   if (!scene.empty() && (!rotate_text.empty() || !translate_text.empty()))
@@ -249,7 +260,7 @@ void Placement::parse(const std::string& command) {
 }
 
 std::string Placement::input_label() const {
-  return scene.empty() ? "model '" + model + "'" : "scene '" + scene + "'";
+  return scene.empty() ? "model " + quote_user_text(model) : "scene " + quote_user_text(scene);
 }
 
 void Placement::check_dimension(int dim) const {
@@ -307,7 +318,7 @@ std::vector<std::string> Input::object_names() const {
     else if (!obj.name.empty())
       out.push_back(obj.name);
     else
-      out.push_back("object " + std::to_string(i) + " (" + obj.model + ")");
+      out.push_back("object " + std::to_string(i) + " (" + quote_user_text(obj.model) + ")");
   }
   return out;
 }
@@ -333,9 +344,9 @@ Input load_input(const Placement& placement) {
   for (std::size_t i = 0; i < in.scene.objects.size(); ++i) {
     const SceneObject& obj = in.scene.objects[i];
     check_placement(*obj.complex, obj.transform,
-                    in.is_scene ? "object " + std::to_string(i) + " (" + obj.model +
-                                      ") of scene '" + placement.scene + "'"
-                                : "model '" + obj.model + "'");
+                    in.is_scene ? "object " + std::to_string(i) + " (" + quote_user_text(obj.model) +
+                                      ") of scene " + quote_user_text(placement.scene)
+                                : "model " + quote_user_text(obj.model));
   }
   std::vector<const Complex*> checked;  // objects share models: validate each once
   for (const auto& obj : in.scene.objects) {

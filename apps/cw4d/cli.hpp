@@ -46,6 +46,11 @@ class EmptySection : public Error {
 
 /// Newlines replaced by spaces (every error is one line).
 std::string one_line(std::string s);
+/// The longest error message printed (bytes); user text in messages is cut by quote_user_text
+/// (cw4d/complex/text.hpp) well below it, so this only bounds what no quote caught.
+inline constexpr std::size_t kMaxMessageBytes = 2000;
+/// `message` cut to kMaxMessageBytes (on a UTF-8 boundary) with "... (N bytes)" when longer.
+std::string bounded_message(const std::string& message);
 /// Shortest round-trip text of a double (for file headers).
 std::string exact(double v);
 /// Six significant digits (for messages).

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "cli.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
@@ -63,7 +64,7 @@ void run_bench(const BenchSettings& s) {
   const Complex model = load(s.model);
   require_valid(model, s.model);
   if (model.ambient_dim() != 4)
-    throw InputError("bench needs a 4D model; '" + s.model + "' lives in R^" +
+    throw InputError("bench needs a 4D model; " + quote_user_text(s.model) + " lives in R^" +
                      std::to_string(model.ambient_dim()));
   const unsigned threads =
       s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());

@@ -99,7 +99,8 @@ void run_info(const InfoSettings& s) {
       j["normal"] = std::vector<double>(unit.data(), unit.data() + unit.size());
       j["offsets"] = {{"min", range->first}, {"max", range->second}};
     }
-    std::cout << j.dump(2) << '\n';
+    // A file name need not be UTF-8, which JSON demands: its stray bytes become U+FFFD.
+    std::cout << j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << '\n';
     return;
   }
   std::string counts, names;

@@ -6,6 +6,7 @@
 #include "cli.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/net.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/section_view.hpp"
 #include "output.hpp"
@@ -54,18 +55,18 @@ void run_net(NetSettings& s) {
   const Complex model = load(s.model);
   const int dim = model.ambient_dim();
   if (dim != 3 && dim != 4)
-    throw InputError("net unfolds 3D and 4D models; model '" + s.model + "' lives in R^" +
-                     std::to_string(dim));
+    throw InputError("net unfolds 3D and 4D models; model " + quote_user_text(s.model) +
+                     " lives in R^" + std::to_string(dim));
   const std::string where =
-      "the net of model '" + s.model + "' lives in R^" + std::to_string(dim - 1);
+      "the net of model " + quote_user_text(s.model) + " lives in R^" + std::to_string(dim - 1);
   if (dim == 3 && (png || format != SectionFormat::obj))
     throw InputError(std::string(png ? "png" : format_name(format)) +
                      " output holds 3D nets of 4D models; " + where + " (write .obj instead)");
   if (dim == 4 && !png) check_format(format, 4, where);
   require_valid(model, s.model);
   if (s.root >= static_cast<long long>(model.count(dim - 1)))
-    throw InputError("--root " + std::to_string(s.root) + ": model '" + s.model + "' has " +
-                     std::to_string(model.count(dim - 1)) + " " +
+    throw InputError("--root " + std::to_string(s.root) + ": model " + quote_user_text(s.model) +
+                     " has " + std::to_string(model.count(dim - 1)) + " " +
                      rank_name(dim - 1, model.count(dim - 1)) + ", numbered from 0");
 
   NetOptions opt;

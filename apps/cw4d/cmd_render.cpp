@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <iostream>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include <unistd.h>
 
 #include "cli.hpp"
 #include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/transform.hpp"
 #include "cw4d/render/animation.hpp"
 #include "cw4d/render/color.hpp"
@@ -75,17 +77,20 @@ render::Light4 parse_light4(const std::string& text) {
     if (colon != std::string::npos) {
       const auto r = parse_vector(rest.substr(colon + 1), "--light4 reference");
       if (r.size() != 1 || !(r[0] > 0.0) || !std::isfinite(r[0]))
-        throw InputError("--light4 '" + text + "': the reference distance must be > 0");
+        throw InputError("--light4 " + quote_user_text(text) +
+                         ": the reference distance must be > 0");
       light.reference = static_cast<float>(r[0]);
       rest = rest.substr(0, colon);
     }
   }
   const auto v = parse_vector(rest, "--light4");
-  if (v.size() != 4) throw InputError("--light4 '" + text + "' needs 4 components X,Y,Z,W");
+  if (v.size() != 4)
+    throw InputError("--light4 " + quote_user_text(text) + " needs 4 components X,Y,Z,W");
   light.vector = glm::vec4(static_cast<float>(v[0]), static_cast<float>(v[1]),
                            static_cast<float>(v[2]), static_cast<float>(v[3]));
   if (light.kind == render::Light4::Kind::Directional && light.vector == glm::vec4(0.0f))
-    throw InputError("--light4 '" + text + "': a direction must not be the zero vector");
+    throw InputError("--light4 " + quote_user_text(text) +
+                     ": a direction must not be the zero vector");
   return light;
 }
 
@@ -170,7 +175,8 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
   std::pair<int, int> plane{0, 3};
   if (!sweep && !orbit) {
     if (s.animate.rfind("rotate:", 0) != 0)
-      throw InputError("--animate takes sweep, rotate:PLANE or orbit, not '" + s.animate + "'");
+      throw InputError("--animate takes sweep, rotate:PLANE or orbit, not " +
+                       quote_user_text(s.animate));
     plane = rotation_plane(s.animate);
   }
   const Hyperplane plane0 = p.plane(0.0);
@@ -287,7 +293,7 @@ void run_render(RenderSettings& s) {
           "not '" +
           s.output + "'");
   } else if (lower_extension(s.output) != ".png") {
-    throw InputError("render writes PNG files: give -o NAME.png, not '" + s.output + "'");
+    throw InputError("render writes PNG files: give -o NAME.png, not " + quote_user_text(s.output));
   }
   // A normal nobody gave is checked against the model only once the model is known to be 4D:
   // a 3D model is refused for its dimension, not for a --normal that was never typed.
@@ -364,14 +370,27 @@ void run_render(RenderSettings& s) {
     o.frame = render::scene_frame(input.scene, HyperplaneFrame(plane0));
     std::vector<render::Image> cells;
     const auto offsets = render::layer_offsets(lo, hi, layers);
+    // Frames go into a hidden staging folder and move into place together once all are drawn:
+    // a failed or interrupted run leaves no frame of its own and no half set over an old one.
+    std::optional<StagedFiles> staged;
+    std::vector<std::string> frame_names;
+    if (s.mode == "frames") {
+      prepare_output_directory(s.output);
+      const std::filesystem::path out(s.output);
+      staged.emplace(out.parent_path().string(), out.stem().string());
+    }
     for (std::size_t i = 0; i < offsets.size(); ++i) {
       const Cut c = cut(input, p.plane(offsets[i]));
       render::Image img = render::render_section(c.section, o, single_model(input));
-      if (s.mode == "frames")
-        render::write_png(frame_path(s.output, static_cast<int>(i)), img, background);
-      else
+      if (staged) {
+        frame_names.push_back(
+            std::filesystem::path(frame_path(s.output, static_cast<int>(i))).filename().string());
+        render::write_png(staged->staged(frame_names.back()), img, background);
+      } else {
         cells.push_back(std::move(img));
+      }
     }
+    if (staged) staged->commit(frame_names);
     if (s.mode == "sheet") {
       render::write_png(s.output, render::contact_sheet(cells, s.columns), background);
       what = "contact sheet of " + std::to_string(layers) + " layers, offsets " +

@@ -3,6 +3,7 @@
 
 #include "cli.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/section/triangulate.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
 #include "output.hpp"
@@ -59,7 +60,7 @@ void run_slice(SliceSettings& s) {
     throw EmptySection("the plane " + cut_text +
                        (input.is_scene ? " misses every object of " : " misses ") +
                        p.input_label() + " (it meets " + offset_range(input, p.plane(s.offset)) +
-                       "); nothing written to '" + s.output + "'");
+                       "); nothing written to " + quote_user_text(s.output));
 
   out.comment = "cw4d slice of " + (input.is_scene ? "scene " + p.scene : p.model) +
                 "\nplane: n=(" + join(p.normal, exact) + "), d=" + exact(s.offset) +

@@ -9,6 +9,7 @@
 
 #include "cli.hpp"
 #include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "output.hpp"
@@ -108,29 +109,19 @@ void run_sweep(SweepSettings& s) {
                p.input_label() + " lives in R^" + std::to_string(input.dim()));
 
   // Layer files are written into a hidden staging folder beside their destination and moved
-  // into place only when the whole sweep succeeded: an error, SIGINT or SIGTERM leaves no
-  // layer behind (the staging folder is removed; TemporaryGuard covers the signals).
+  // into place only when the whole sweep succeeded, by the rule every output follows
+  // (atomic_file.hpp): an error, SIGINT or SIGTERM leaves no layer behind.
   const fs::path destination = layer.directory;
-  fs::path staging;
-  TemporaryGuard staging_guard;
-  const bool new_folder = !one_file && ext.empty() && !fs::exists(destination);
+  std::optional<StagedFiles> staging;
+  const bool new_folder = !one_file && ext.empty() && !fs::exists(fs::symlink_status(destination));
   if (!one_file) {
     const fs::path home = new_folder ? destination.parent_path() : destination;
     prepare_output_directory((home.empty() ? fs::path(".") : home / "x").string());
-    staging = (home.empty() ? fs::path(".") : home) /
-              ("." + (new_folder ? destination.filename().string() : layer.stem) + ".sweep." +
-               std::to_string(::getpid()));
-    std::error_code ec;
-    fs::create_directory(staging, ec);
-    if (ec)
-      throw IoError("cannot write '" + s.output + "': cannot create '" + staging.string() +
-                    "': " + ec.message());
-    staging_guard = TemporaryGuard(staging.string(), true);
-    layer.directory = staging;
+    staging.emplace(home.string(), new_folder ? destination.filename().string() : layer.stem);
+    layer.directory = fs::path(staging->staged(""));
   }
   const auto drop_staging = [&] {
-    std::error_code ignored;
-    if (!staging.empty()) fs::remove_all(staging, ignored);
+    if (staging) staging->discard();
   };
 
   Progress progress(s.layers, !s.quiet);
@@ -205,32 +196,17 @@ void run_sweep(SweepSettings& s) {
     drop_staging();
     throw EmptySection("every layer of the sweep (" + range + ") misses " + p.input_label() +
                        " (it meets " + offset_range(input, p.plane(0.0)) +
-                       "); nothing written to '" + s.output + "'");
+                       "); nothing written to " + quote_user_text(s.output));
   }
   if (!one_file) {
     // Into place: the staging folder becomes the new folder, or its files move one by one.
-    std::error_code ec;
     if (new_folder) {
-      fs::rename(staging, destination, ec);
+      staging->commit_as_folder(destination.string());
     } else {
-      // A directory in a layer's place would stop the moves half way: check them all first.
-      for (const auto& f : files)
-        if (fs::is_directory(destination / fs::path(f).filename())) {
-          drop_staging();
-          throw IoError("cannot write '" + (destination / fs::path(f).filename()).string() +
-                        "': it is a directory");
-        }
-      for (const auto& f : files) {
-        fs::rename(f, destination / fs::path(f).filename(), ec);
-        if (ec) break;
-      }
-      if (!ec) fs::remove(staging, ec);
+      std::vector<std::string> names;
+      for (const auto& f : files) names.push_back(fs::path(f).filename().string());
+      staging->commit(names);
     }
-    if (ec) {
-      drop_staging();
-      throw IoError("cannot write '" + s.output + "': " + ec.message());
-    }
-    staging_guard.release();
     for (auto& w : written) w = (destination / fs::path(w).filename()).string();
   }
   if (one_file) {

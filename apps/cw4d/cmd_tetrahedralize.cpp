@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "cli.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/tetrahedralize/tet_io.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 
@@ -39,8 +40,8 @@ void run_tetrahedralize(const TetSettings& s) {
   const Complex model = load(s.model);
   require_valid(model, s.model);
   if (model.ambient_dim() != 4)
-    throw InputError("tetrahedralize needs a 4D model; '" + s.model + "' lives in R^" +
-                     std::to_string(model.ambient_dim()));
+    throw InputError("tetrahedralize needs a 4D model; " + quote_user_text(s.model) +
+                     " lives in R^" + std::to_string(model.ambient_dim()));
   TetStats stats;
   const TetMesh mesh = tetrahedralize(model, options, &stats);
   prepare_output_directory(s.output);

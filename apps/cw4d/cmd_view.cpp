@@ -1,9 +1,8 @@
 // cw4d view: one self-contained HTML file (the viewer of web/, its WebAssembly core and scripts
 // inlined) showing a model, to open from disk with no server.
+#include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <system_error>
 #include <vector>
 
@@ -11,6 +10,8 @@
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/text.hpp"
+#include "view_page.hpp"
 
 // Where the viewer page is looked for (apps/CMakeLists.txt): CW4D_VIEW_INSTALL_DIR relative to
 // the executable's directory (../share/cw4d in an installed prefix); CW4D_VIEW_BUILD_TEMPLATE (the
@@ -36,7 +37,6 @@ struct ViewSettings {
   std::string templ;  // --template; empty: found by find_template
 };
 
-constexpr std::string_view kMarker = "/*cw4d:config*/{}";
 constexpr std::string_view kPageName = "cw4d-view.html";
 
 // The viewer page when no --template is given: relative to the running executable's folder
@@ -69,39 +69,35 @@ void run_view(ViewSettings& s) {
   s.placement.parse("view");
   const Placement& p = s.placement;
   if (!p.scene.empty()) throw InputError("view shows one MODEL, not a --scene");
+  if (!std::isfinite(s.offset)) throw InputError("--offset must be a finite number");
   if (lower_extension(s.output) != ".html" && lower_extension(s.output) != ".htm")
-    throw InputError("-o: the view is an .html file, got '" + s.output + "'");
+    throw InputError("-o: the view is an .html file, got " + quote_user_text(s.output));
   if (s.templ.empty()) s.templ = find_template();
-  std::string page;
+  std::string templ;
   try {
-    page = read_input_file(s.templ);
-  } catch (const ParseError&) {
-    throw InputError("the viewer page '" + s.templ +
-                     "' is missing or unreadable: build the web viewer (./setup.sh does, with "
-                     "emscripten) or give --template FILE (build-web/web/site/cw4d-view.html)");
+    templ = read_input_file(s.templ);
+  } catch (const ParseError& e) {
+    // The reason as the reader gives it: missing, not a regular file (a FIFO), too large...
+    throw InputError("cannot use the viewer page " + quote_user_text(s.templ) + ": " + e.message() +
+                     "; build the web viewer (./setup.sh does, with emscripten) or give "
+                     "--template FILE (build-web/web/site/cw4d-view.html)");
   }
-  const std::size_t at = page.find(kMarker);
-  if (at == std::string::npos)
-    throw InputError("'" + s.templ + "' is not the viewer page (no configuration marker)");
+  if (templ.find(kViewConfigMarker) == std::string::npos)
+    throw InputError(quote_user_text(s.templ) +
+                     " is not the viewer page (no configuration marker)");
 
   const Input input = load_input(p);
   if (input.dim() != 4)
-    throw InputError("view shows 4D models; '" + p.model + "' lives in R^" +
+    throw InputError("view shows 4D models; " + quote_user_text(p.model) + " lives in R^" +
                      std::to_string(input.dim()));
   // The model goes in as nOFF text with its placement applied, so the page shows exactly the
   // placed model (rotations in the order given) and needs neither the file nor the spec parser.
   const Complex placed = transformed(*input.models().front(), p.model_to_world(4));
-  std::ostringstream off;
-  write_off(off, placed);
-  nlohmann::json config = {{"off", off.str()},
-                           {"name", p.model + p.transform_text()},
-                           {"n", join(p.normal, exact)},
-                           {"d", exact(s.offset)}};
-  std::string text = config.dump();
-  // Inside <script>, "</" could close the element: JSON allows the escaped solidus instead.
-  for (std::size_t i = text.find("</"); i != std::string::npos; i = text.find("</", i + 2))
-    text.replace(i, 2, "<\\/");
-  page.replace(at, kMarker.size(), text);
+  ViewPageOptions options;
+  options.name = p.model + p.transform_text();
+  options.normal = join(p.normal, exact);
+  options.offset = exact(s.offset);
+  const std::string page = view_page(templ, placed, options);
   prepare_output_directory(s.output);
   write_file_atomically(s.output, page);
   std::cout << "wrote " << s.output << ": " << p.model << " (" << describe_counts(placed)
@@ -130,7 +126,11 @@ void add_view_command(CLI::App& app, Commands& commands) {
       "/cw4d-view.html relative to\n"
       "this executable's folder (put there by 'cmake --install'; still found when the prefix is\n"
       "moved); else, for the executable of the build tree only, from the web build's site folder\n"
-      "(CMake's CW4D_WEB_SITE_DIR, default build-web/web/site). Exit codes: see 'cw4d --help'.");
+      "(CMake's CW4D_WEB_SITE_DIR, default build-web/web/site).\n"
+      "The page may take at most 256 MiB: its size is bounded from the model before it is\n"
+      "built, and a larger one is refused (exit 1). The model's name, normal and offset go into\n"
+      "the page as JSON escaped for a <script> element (file names need not be UTF-8).\n"
+      "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_view(*s); }});
 }
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/export/mesh_files.hpp"
 #include "cw4d/export/obj.hpp"
@@ -67,17 +68,18 @@ SectionFormat choose_format(const std::string& path, const std::string& forced) 
           (e.format == SectionFormat::off && (forced == "off" || forced == "noff"))) {
         // An extension that names another format would mislead whoever opens the file.
         if (by_extension && by_extension->format != e.format)
-          throw InputError("--format " + forced + " contradicts the extension of '" + path + "' (" +
-                           by_extension->name + "): name the file ." +
-                           std::string(e.extensions[0] + 1) + " or drop --format");
+          throw InputError("--format " + forced + " contradicts the extension of " +
+                           quote_user_text(path) + " (" + by_extension->name +
+                           "): name the file ." + std::string(e.extensions[0] + 1) +
+                           " or drop --format");
         return e.format;
       }
     throw InputError("--format " + forced + ": unknown format; supported: " + supported_formats());
   }
   if (by_extension) return by_extension->format;
-  throw InputError("cannot tell the format of '" + path + "' from its extension" +
-                   (ext.empty() ? "" : " '" + ext + "'") + ": supported: " + supported_formats() +
-                   "; or give --format");
+  throw InputError("cannot tell the format of " + quote_user_text(path) + " from its extension" +
+                   (ext.empty() ? "" : " " + quote_user_text(ext)) +
+                   ": supported: " + supported_formats() + "; or give --format");
 }
 
 void check_format(SectionFormat f, int dim, const std::string& where) {

@@ -10,6 +10,7 @@
 #include <new>
 
 #include "cli.hpp"
+#include "cw4d/complex/text.hpp"
 #include "run.hpp"
 
 namespace {
@@ -17,7 +18,7 @@ namespace {
 using cw4d::cli::Exit;
 
 int fail(Exit code, const std::string& message) {
-  std::cerr << "cw4d: error: " << cw4d::cli::one_line(message) << '\n';
+  std::cerr << "cw4d: error: " << cw4d::cli::one_line(cw4d::cli::bounded_message(message)) << '\n';
   return static_cast<int>(code);
 }
 
@@ -60,14 +61,14 @@ int cw4d::cli::run(int argc, char** argv) {
         std::cout << sub->help();
         return static_cast<int>(Exit::ok);
       }
-    return fail(Exit::usage, "help: unknown subcommand '" + std::string(argv[2]) + "'" +
+    return fail(Exit::usage, "help: unknown subcommand " + quote_user_text(std::string(argv[2])) +
                                  cli::did_you_mean(argv[2], cli::subcommand_names(app)) +
                                  " (run 'cw4d help')");
   }
   if (!word.empty()) {
     const auto names = cli::subcommand_names(app);
     if (std::find(names.begin(), names.end(), word) == names.end())
-      return fail(Exit::usage, "unknown subcommand '" + word + "'" +
+      return fail(Exit::usage, "unknown subcommand " + quote_user_text(word) +
                                    cli::did_you_mean(word, names) + " (run 'cw4d help')");
   }
 

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/text.hpp"
 
 namespace cw4d {
 
@@ -128,15 +129,16 @@ void write_all(int fd, std::string_view content, const std::string& path) {
     const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      throw IoError("cannot write '" + path + "': " + reason(errno));
+      throw IoError("cannot write " + quote_user_text(path) + ": " + reason(errno));
     }
     done += static_cast<std::size_t>(n);
   }
 }
 
 // An existing output that is not a regular file (a device such as /dev/null or /dev/stdout, a
-// FIFO): written through, never replaced. A FIFO nobody reads is refused instead of waiting.
-void write_through(const std::string& path, std::string_view content) {
+// FIFO), opened to be written through, never replaced. A FIFO nobody reads is refused instead of
+// waiting. \return a blocking descriptor
+int open_through(const std::string& path) {
   int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
     const int err = errno;
@@ -145,6 +147,11 @@ void write_through(const std::string& path, std::string_view content) {
   }
   const int flags = ::fcntl(fd, F_GETFL);
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  return fd;
+}
+
+// Writes `content` into fd and closes it. \throw IoError naming `path`
+void write_and_close(int fd, std::string_view content, const std::string& path) {
   try {
     write_all(fd, content, path);
   } catch (...) {
@@ -152,7 +159,11 @@ void write_through(const std::string& path, std::string_view content) {
     throw;
   }
   if (::close(fd) != 0 && errno != EINTR)
-    throw IoError("cannot write '" + path + "': " + reason(errno));
+    throw IoError("cannot write " + quote_user_text(path) + ": " + reason(errno));
+}
+
+void write_through(const std::string& path, std::string_view content) {
+  write_and_close(open_through(path), content, path);
 }
 
 struct Target {
@@ -160,17 +171,37 @@ struct Target {
   bool through = false;  // an existing device or FIFO: write into it
 };
 
+// The one rule for every output path (single files, groups, sweep layers, frames): a new name
+// or a regular file is replaced by a rename; a symbolic link is followed (the regular file it
+// names is replaced and the link kept, a device or FIFO it names is written into); a device or
+// FIFO is written into, never replaced; a directory, a socket and a symbolic link to nothing are
+// refused. Replacing anything but a regular file would destroy what the user pointed us at.
 Target resolve(const std::string& path) {
   const fs::path target(path);
-  if (target.filename().empty()) throw IoError("cannot write '" + path + "': not a file name");
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw IoError("cannot write '" + path + "': it is a directory");
-    if (!S_ISREG(st.st_mode)) return {path, true};
+  if (target.filename().empty())
+    throw IoError("cannot write " + quote_user_text(path) + ": not a file name");
+  struct stat lst {};
+  if (::lstat(path.c_str(), &lst) != 0) return {path, false};  // new (or failing later)
+  const auto refuse = [&](const std::string& why) -> Target {
+    throw IoError("cannot write " + quote_user_text(path) + ": " + why);
+  };
+  struct stat st = lst;
+  if (S_ISLNK(lst.st_mode)) {
+    if (::stat(path.c_str(), &st) != 0)
+      return refuse(errno == ELOOP ? "it is a loop of symbolic links"
+                                   : "it is a symbolic link to a missing file");
+  }
+  const std::string link = S_ISLNK(lst.st_mode) ? "a symbolic link to " : "";
+  if (S_ISDIR(st.st_mode)) return refuse(link.empty() ? "it is a directory" : link + "a directory");
+  if (S_ISSOCK(st.st_mode))
+    return refuse("it is " + (link.empty() ? "a socket" : link + "a socket"));
+  if (!S_ISREG(st.st_mode)) return {path, true};
+  if (S_ISLNK(lst.st_mode)) {
     // A symbolic link to a regular file: replace the file it names, keep the link.
     std::error_code ec;
     const fs::path real = fs::canonical(target, ec);
-    if (!ec && real != fs::absolute(target)) return {real.string(), false};
+    if (ec) return refuse(ec.message());
+    return {real.string(), false};
   }
   return {path, false};
 }
@@ -183,7 +214,8 @@ fs::path write_temporary(const std::string& shown, const std::string& path,
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw IoError("cannot write '" + shown + "': directory '" + dir.string() + "' does not exist");
+    throw IoError("cannot write " + quote_user_text(shown) + ": directory " +
+                  quote_user_text(dir.string()) + " does not exist");
   static std::atomic<unsigned> counter{0};
   fs::path tmp;
   int fd = -1;
@@ -193,7 +225,7 @@ fs::path write_temporary(const std::string& shown, const std::string& path,
     fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0 && errno != EEXIST) break;
   }
-  if (fd < 0) throw IoError("cannot write '" + shown + "': " + reason(errno));
+  if (fd < 0) throw IoError("cannot write " + quote_user_text(shown) + ": " + reason(errno));
   guard = TemporaryGuard(tmp.string(), false);
   try {
     write_all(fd, content, shown);
@@ -205,19 +237,19 @@ fs::path write_temporary(const std::string& shown, const std::string& path,
   if (::close(fd) != 0 && errno != EINTR) {
     const int err = errno;
     ::unlink(tmp.c_str());
-    throw IoError("cannot write '" + shown + "': " + reason(err));
+    throw IoError("cannot write " + quote_user_text(shown) + ": " + reason(err));
   }
   return tmp;
 }
 
 // Renames the temporary file over `path`; on failure removes it. \throw IoError
-void commit(const fs::path& tmp, const std::string& shown, const std::string& path) {
+void rename_into_place(const fs::path& tmp, const std::string& shown, const std::string& path) {
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw IoError("cannot write '" + shown + "': " + ec.message());
+    throw IoError("cannot write " + quote_user_text(shown) + ": " + ec.message());
   }
 }
 
@@ -236,14 +268,62 @@ void write_file_atomically(const std::string& path, std::string_view content) {
   const Target t = resolve(path);
   if (t.through) return write_through(path, content);
   TemporaryGuard guard;
-  commit(write_temporary(path, t.path, content, guard), path, t.path);
+  rename_into_place(write_temporary(path, t.path, content, guard), path, t.path);
 }
+
+namespace {
+
+// Descriptors of the devices and FIFOs of a group, opened before anything is renamed so that a
+// FIFO nobody reads stops the group before it is half replaced.
+struct ThroughFds {
+  std::vector<int> fds;
+  ~ThroughFds() {
+    for (int fd : fds)
+      if (fd >= 0) ::close(fd);
+  }
+  void open_all(const std::vector<std::string>& paths, const std::vector<Target>& targets) {
+    fds.assign(paths.size(), -1);
+    for (std::size_t i = 0; i < paths.size(); ++i)
+      if (targets[i].through) fds[i] = open_through(paths[i]);
+  }
+  void write(std::size_t i, std::string_view content, const std::string& path) {
+    const int fd = fds[i];
+    fds[i] = -1;
+    write_and_close(fd, content, path);
+  }
+};
+
+std::string read_whole(const fs::path& path, const std::string& shown) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw IoError("cannot write " + quote_user_text(shown) + ": " + reason(errno));
+  std::string out;
+  char buf[1 << 16];
+  while (true) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(fd);
+      throw IoError("cannot write " + quote_user_text(shown) + ": " + reason(err));
+    }
+    if (n == 0) break;
+    out.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return out;
+}
+
+}  // namespace
 
 void write_files_atomically(const std::vector<FileContent>& files) {
   // Every file is first written completely to a temporary; a failure there (a full disk, a bad
-  // path) leaves the previous versions of the whole group untouched.
+  // path, a FIFO nobody reads) leaves the previous versions of the whole group untouched.
   std::vector<Target> targets;
-  for (const auto& f : files) targets.push_back(resolve(f.path));
+  std::vector<std::string> paths;
+  for (const auto& f : files) {
+    targets.push_back(resolve(f.path));
+    paths.push_back(f.path);
+  }
   std::vector<fs::path> temps(files.size());
   std::vector<TemporaryGuard> guards(files.size());
   const auto remove_temps = [&](std::size_t from) {
@@ -252,10 +332,12 @@ void write_files_atomically(const std::vector<FileContent>& files) {
       if (!temps[i].empty()) fs::remove(temps[i], ignored);
     }
   };
+  ThroughFds through;
   try {
     for (std::size_t i = 0; i < files.size(); ++i)
       if (!targets[i].through)
         temps[i] = write_temporary(files[i].path, targets[i].path, files[i].content, guards[i]);
+    through.open_all(paths, targets);
   } catch (...) {
     remove_temps(0);
     throw;
@@ -265,14 +347,104 @@ void write_files_atomically(const std::vector<FileContent>& files) {
   for (std::size_t i = 0; i < files.size(); ++i) {
     try {
       if (targets[i].through)
-        write_through(files[i].path, files[i].content);
+        through.write(i, files[i].content, files[i].path);
       else
-        commit(temps[i], files[i].path, targets[i].path);
+        rename_into_place(temps[i], files[i].path, targets[i].path);
     } catch (...) {
       remove_temps(i + 1);
       throw;
     }
   }
+}
+
+// --- StagedFiles -------------------------------------------------------------------------------
+
+StagedFiles::StagedFiles(const std::string& directory, const std::string& stem)
+    : directory_(directory.empty() ? std::string(".") : directory) {
+  std::error_code ec;
+  if (!fs::is_directory(directory_, ec))
+    throw IoError("cannot write into " + quote_user_text(directory_) + ": it is not a directory");
+  static std::atomic<unsigned> counter{0};
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    const fs::path folder =
+        fs::path(directory_) /
+        ("." + stem + ".staging." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    if (::mkdir(folder.c_str(), 0777) == 0) {
+      folder_ = folder.string();
+      guard_ = TemporaryGuard(folder_, true);
+      return;
+    }
+    if (errno != EEXIST)
+      throw IoError("cannot write into " + quote_user_text(directory_) + ": cannot create '" +
+                    folder.string() + "': " + reason(errno));
+  }
+  throw IoError("cannot write into " + quote_user_text(directory_) +
+                ": no free staging folder name");
+}
+
+StagedFiles::~StagedFiles() {
+  discard();
+}
+
+void StagedFiles::discard() noexcept {
+  if (folder_.empty()) return;
+  std::error_code ignored;
+  fs::remove_all(folder_, ignored);
+  guard_.release();
+  folder_.clear();
+}
+
+std::string StagedFiles::staged(const std::string& name) const {
+  return (fs::path(folder_) / name).string();
+}
+
+std::string StagedFiles::destination(const std::string& name) const {
+  return (fs::path(directory_) / name).string();
+}
+
+void StagedFiles::commit(const std::vector<std::string>& names) {
+  // Every destination is judged (and every device or FIFO opened) before the first file moves:
+  // a directory, a socket or an unread FIFO at any name leaves the whole group as it was.
+  std::vector<Target> targets;
+  std::vector<std::string> paths;
+  for (const auto& name : names) {
+    paths.push_back(destination(name));
+    targets.push_back(resolve(paths.back()));
+  }
+  ThroughFds through;
+  through.open_all(paths, targets);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const fs::path from = staged(names[i]);
+    if (targets[i].through) {
+      through.write(i, read_whole(from, paths[i]), paths[i]);
+      continue;
+    }
+    std::error_code ec;
+    fs::rename(from, targets[i].path, ec);
+    if (ec == std::errc::cross_device_link) {
+      // A symbolic link to a file on another file system: a temporary beside that file.
+      TemporaryGuard guard;
+      rename_into_place(
+          write_temporary(paths[i], targets[i].path, read_whole(from, paths[i]), guard), paths[i],
+          targets[i].path);
+    } else if (ec) {
+      throw IoError("cannot write " + quote_user_text(paths[i]) + ": " + ec.message());
+    }
+  }
+  discard();
+}
+
+void StagedFiles::commit_as_folder(const std::string& folder) {
+  // Only a name that does not exist yet becomes the folder (nothing is replaced).
+  struct stat st {};
+  if (::lstat(folder.c_str(), &st) == 0)
+    throw IoError("cannot write " + quote_user_text(folder) +
+                  ": it appeared while the files were written");
+  std::error_code ec;
+  fs::rename(folder_, folder, ec);
+  if (ec) throw IoError("cannot write " + quote_user_text(folder) + ": " + ec.message());
+  guard_.release();
+  folder_.clear();
 }
 
 }  // namespace cw4d

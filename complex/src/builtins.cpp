@@ -13,6 +13,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/toratopes.hpp"
 #include "cw4d/complex/wythoff.hpp"
 
@@ -341,8 +342,8 @@ int parse_int(std::string_view text, std::string_view spec) {
   int value = 0;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || ptr != text.data() + text.size())
-    throw InputError("model spec '" + std::string(spec) + "': '" + std::string(text) +
-                     "' is not an integer");
+    throw InputError("model spec " + quote_user_text(std::string(spec)) + ": '" +
+                     std::string(text) + "' is not an integer");
   return value;
 }
 
@@ -368,8 +369,8 @@ std::pair<std::vector<double>, int> parse_radii_resolution(std::string_view args
     double r = 0.0;
     auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), r);
     if (comma == std::string_view::npos || ec != std::errc() || ptr != text.data() + text.size())
-      throw InputError("model spec '" + std::string(spec) + "' expects " + std::to_string(count) +
-                       " radii and an integer resolution");
+      throw InputError("model spec " + quote_user_text(std::string(spec)) + " expects " +
+                       std::to_string(count) + " radii and an integer resolution");
     radii.push_back(r);
     args.remove_prefix(comma + 1);
   }
@@ -534,7 +535,8 @@ std::vector<ModelFamily> default_families() {
       [](const std::string& spec, std::string_view a, const Catalogue& catalogue) {
         const auto star = product_split(a);
         if (star == std::string_view::npos || star == 0 || star + 1 == a.size())
-          throw InputError("model spec '" + spec + "': expected product:MODEL*MODEL");
+          throw InputError("model spec " + quote_user_text(spec) +
+                           ": expected product:MODEL*MODEL");
         return make_product(catalogue.load(std::string(a.substr(0, star))),
                             catalogue.load(std::string(a.substr(star + 1))));
       }));
@@ -620,7 +622,7 @@ const Catalogue& core_catalogue() {
 Catalogue::Catalogue(std::vector<ModelFamily> families) {
   for (ModelFamily& family : families) {
     if (!family.matches || !family.make)
-      throw InputError("model family '" + family.usage + "' has no matches or make");
+      throw InputError("model family " + quote_user_text(family.usage) + " has no matches or make");
     const auto same = std::find_if(families_.begin(), families_.end(),
                                    [&](const ModelFamily& f) { return f.usage == family.usage; });
     if (same != families_.end())
@@ -661,8 +663,8 @@ std::vector<int> parse_ints(std::string_view args, std::string_view spec, std::s
     start = comma + 1;
   }
   if (out.size() != count)
-    throw InputError("model spec '" + std::string(spec) + "' expects " + std::to_string(count) +
-                     " integer parameter" + (count > 1 ? "s" : ""));
+    throw InputError("model spec " + quote_user_text(std::string(spec)) + " expects " +
+                     std::to_string(count) + " integer parameter" + (count > 1 ? "s" : ""));
   return out;
 }
 
@@ -707,7 +709,8 @@ Complex Catalogue::load(const std::string& spec) const {
   const std::string guess =
       closest_name(colon == std::string::npos ? spec : spec.substr(0, colon + 1), names);
   throw InputError(
-      "unknown model '" + spec + "': not a built-in (run 'cw4d list') and not a file name" +
+      "unknown model " + quote_user_text(spec) +
+      ": not a built-in (run 'cw4d list') and not a file name" +
       (guess.empty()
            ? std::string()
            : "; did you mean '" +

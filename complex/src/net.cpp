@@ -13,6 +13,7 @@
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/text.hpp"
 
 namespace cw4d {
 
@@ -35,7 +36,8 @@ const char* net_tree_name(NetTree tree) {
 NetTree parse_net_tree(const std::string& name) {
   for (NetTree t : {NetTree::Bfs, NetTree::Dfs, NetTree::Greedy, NetTree::Random, NetTree::Auto})
     if (name == net_tree_name(t)) return t;
-  throw InputError("unknown net tree '" + name + "': choose auto, bfs, dfs, greedy or random");
+  throw InputError("unknown net tree " + quote_user_text(name) +
+                   ": choose auto, bfs, dfs, greedy or random");
 }
 
 bool interiors_overlap(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b,

@@ -20,6 +20,7 @@
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/validate.hpp"
 
 namespace cw4d {
@@ -38,7 +39,7 @@ constexpr double kPositiveDefiniteMin = tol::wythoff_positive_definite_min;
 using VertexList = std::vector<std::uint32_t>;
 
 std::string quoted(std::string_view text) {
-  return "Coxeter diagram '" + std::string(text) + "'";
+  return "Coxeter diagram " + quote_user_text(std::string(text));
 }
 
 std::string label_text(const CoxeterDiagram& d, std::size_t i) {
@@ -923,7 +924,7 @@ std::optional<std::string> star_polychoron_diagram(std::string_view name) {
 
 Complex make_star_polychoron(std::string_view name) {
   const auto e = star_polychoron(name);
-  if (!e) throw InputError("'" + std::string(name) + "' names no star polychoron");
+  if (!e) throw InputError(quote_user_text(std::string(name)) + " names no star polychoron");
   return make_wythoff(e->diagram, WythoffOptions{e->folded});
 }
 

@@ -17,6 +17,7 @@
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/text.hpp"
 
 namespace cw4d {
 
@@ -85,7 +86,7 @@ class ModelBuilder {
 
   int mesh(const TriangleMesh& m) {
     if (m.vertex_count() == 0 || m.triangles.empty())
-      throw InputError("glTF: mesh '" + m.name + "' has no triangles");
+      throw InputError("glTF: mesh " + quote_user_text(m.name) + " has no triangles");
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.attributes["POSITION"] =
@@ -112,7 +113,7 @@ class ModelBuilder {
     prim.indices = index_accessor(m.triangles);
     prim.material = material(blend);
     tinygltf::Mesh mesh;
-    mesh.name = m.name;
+    mesh.name = to_valid_utf8(m.name);
     mesh.primitives.push_back(std::move(prim));
     model_.meshes.push_back(std::move(mesh));
     return static_cast<int>(model_.meshes.size()) - 1;
@@ -180,13 +181,13 @@ tinygltf::Model build(const std::vector<GltfNode>& nodes, const GltfOptions& opt
   for (const GltfNode& n : nodes) {
     if (n.meshes.empty()) continue;
     tinygltf::Node root;
-    root.name = n.name;
+    root.name = to_valid_utf8(n.name);
     if (n.meshes.size() == 1) {
       root.mesh = b.mesh(n.meshes.front());
     } else {
       for (const TriangleMesh& m : n.meshes) {
         tinygltf::Node child;
-        child.name = m.name;
+        child.name = to_valid_utf8(m.name);
         child.mesh = b.mesh(m);
         root.children.push_back(b.node(std::move(child)));
       }
@@ -207,7 +208,7 @@ tinygltf::Model build(const std::vector<GltfNode>& nodes, const GltfOptions& opt
   if (options.seconds_per_node > 0.0) add_sweep_animation(b, roots, options.seconds_per_node);
   if (!options.description.empty()) {
     tinygltf::Value::Object extras;
-    extras["description"] = tinygltf::Value(options.description);
+    extras["description"] = tinygltf::Value(to_valid_utf8(options.description));
     b.model().asset.extras = tinygltf::Value(std::move(extras));
   }
   return std::move(b.model());
@@ -258,7 +259,8 @@ void write_gltf_file(const std::string& path, const std::vector<GltfNode>& nodes
   const std::vector<unsigned char> data = model.buffers.front().data;
   nlohmann::json json = nlohmann::json::parse(serialize(model, false));
   json["buffers"][0]["uri"] = uri_of_file_name(bin_path.filename().string());
-  const std::string text = json.dump(2) + "\n";
+  const std::string text =
+      json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   write_files_atomically(
       {{bin_path.string(),
         std::string_view(reinterpret_cast<const char*>(data.data()), data.size())},
