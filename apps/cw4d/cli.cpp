@@ -110,7 +110,7 @@ std::pair<int, int> parse_image_size(const std::string& text) {
   const int w = x == std::string::npos ? 0 : side(std::string_view(text).substr(0, x));
   const int h = x == std::string::npos ? 0 : side(std::string_view(text).substr(x + 1));
   if (w == 0 || h == 0)
-    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not '" + text + "'");
+    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not " + quote_user_text(text));
   return {w, h};
 }
 

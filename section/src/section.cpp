@@ -352,6 +352,7 @@ class Cutter {
   void emit_higher(int r, std::vector<Term>& chain, std::uint32_t source, std::vector<Term>& image);
   std::uint32_t dedupe(int r, std::vector<Term>& row, std::uint32_t source, int* rel_sign);
   CutResult finish(const std::vector<Term>& top_facets, const std::vector<Term>& top_solids);
+  void expand_multiples(int r, std::vector<Term>& chain);
 
   const Complex& m_;
   const std::vector<double>& s_;
@@ -489,7 +490,10 @@ void Cutter::emit_edges(std::vector<Term>& chain, std::uint32_t source, std::vec
     running += pts[order[k]].coef;
     const int w = -running;
     const std::uint32_t a = pts[order[k]].id, b = pts[order[k + 1]].id;
-    if (w == 0 || a == b || at(a) == at(b)) continue;  // outside the face, or a point
+    // Outside the face, or one section vertex. Two distinct vertices at the same position (a
+    // plane through the point where two edges of a star polytope cross) still bound a segment
+    // of zero length: dropping it would leave the cell's chain of segments open there.
+    if (w == 0 || a == b) continue;
     const std::size_t before = image.size();
     make_edge(a, b);  // directed along the line; the multiplicity and direction go in the sign
     image[before].coef *= w;
@@ -595,12 +599,46 @@ CutResult Cutter::run() {
   if (fr >= 1 && fr <= top) {
     for (std::uint32_t f = 0; f < m_.count(fr); ++f)
       for (const Term& t : images_[fr].row(f)) facets.push_back(t);
-    if (degenerate_) combine_chain(facets);
+    if (degenerate_) {
+      combine_chain(facets);
+      // Deduplication merged equal pieces into one element with a multiplicity (a star cell's
+      // cut runs twice around its core; two cells may cut to the same polygon): the section
+      // is a chain, so such a piece is written once per unit of its coefficient, as the
+      // generic cut writes it, or its volume and its edges' balance would be lost.
+      if (fr >= 2) expand_multiples(fr - 1, facets);
+    }
   }
   if (n_ <= top)
     for (std::uint32_t s = 0; s < m_.count(n_); ++s)
       for (const Term& t : images_[n_].row(s)) solids.push_back(t);
   return finish(facets, solids);
+}
+
+// Terms of `chain` (elements of output rank r) with |coef| > 1 become |coef| terms of
+// coefficient +-1 on copies of their element (same boundary, same source).
+void Cutter::expand_multiples(int r, std::vector<Term>& chain) {
+  std::size_t extra = 0;
+  for (const Term& t : chain) extra += static_cast<std::size_t>(std::abs(t.coef) - 1);
+  if (extra == 0) return;
+  Incidence& table = out_.boundary_mut(r);
+  std::vector<std::uint32_t> ids;
+  std::vector<std::int8_t> signs;
+  const std::size_t n = chain.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const int copies = std::abs(chain[i].coef);
+    if (copies == 1) continue;
+    const int unit = chain[i].coef > 0 ? 1 : -1;
+    const std::uint32_t id = chain[i].id;
+    chain[i].coef = unit;
+    for (int k = 1; k < copies; ++k) {
+      auto row_ids = table.ids(id);
+      auto row_signs = table.signs(id);
+      ids.assign(row_ids.begin(), row_ids.end());
+      signs.assign(row_signs.begin(), row_signs.end());
+      src_[r].push_back(src_[r][id]);
+      chain.push_back({table.add_row(ids, signs), unit});
+    }
+  }
 }
 
 CutResult Cutter::finish(const std::vector<Term>& facets, const std::vector<Term>& solids) {
