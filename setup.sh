@@ -7,7 +7,7 @@
 #                     with the tests, benchmarks and Python module on, and runs the test suite
 #                     (ctest), the Python module's tests (pytest), the C++ suite again under
 #                     ASan+UBSan in build-asan/, the browser test of the web viewer, then each
-#                     libFuzzer target for 48 s (build-fuzz/); every stage runs, a verdict per
+#                     libFuzzer target for 30 s (build-fuzz/); every stage runs, a verdict per
 #                     stage is printed, and the exit status is the first failure's
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
 # installed (CW4D_WEB=0 skips it); `./setup.sh test` installs emscripten, the plain run does only
@@ -179,8 +179,8 @@ configure_and_build() {
 }
 
 # --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
-# CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 48 s per
-# target: five targets in the time four took at 60 s). Build directories: build-asan/ and
+# CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 30 s per
+# target: eight targets in the time five took at 48 s). Build directories: build-asan/ and
 # build-fuzz/ (CW4D_ASAN_DIR, CW4D_FUZZ_DIR).
 SANITIZE_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 
@@ -223,7 +223,7 @@ run_sanitizer_suite() {
 }
 
 run_fuzz_smoke() {
-  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-48}" target work timeout
+  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-30}" target work timeout
   [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "CW4D_FUZZ_SECONDS must be a positive integer, got '$seconds'"
   discard_stale_cache "$dir" clang++
   log "configuring the libFuzzer targets (clang) in $dir/"
@@ -232,7 +232,7 @@ run_fuzz_smoke() {
   cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCW4D_FUZZ_CLI=ON >&2 || return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
-  for target in off scene spec nesting cli; do
+  for target in off scene spec nesting wythoff cli texture view; do
     # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
     work="$dir/corpus-$target"
     mkdir -p "$work"
@@ -376,7 +376,7 @@ if [[ "$MODE" == test ]]; then
   stage "pytest" run_python_tests
   if [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then stage "ASan+UBSan ctest" run_sanitizer_suite; fi
   stage "browser test" run_browser_test
-  if [[ "${CW4D_FUZZ_SECONDS:-48}" != 0 ]]; then stage "fuzz" run_fuzz_smoke; fi
+  if [[ "${CW4D_FUZZ_SECONDS:-30}" != 0 ]]; then stage "fuzz" run_fuzz_smoke; fi
   for verdict in "${verdicts[@]}"; do log "$verdict"; done
   if ((status == 0)); then log "every test passed"; else log "tests FAILED"; fi
   exit "$status"

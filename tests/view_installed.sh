@@ -39,7 +39,7 @@ cd "$scratch/work"
   fail "$cw4d view tesseract -o out.html exited $?: $(cat stderr.txt)"
 [[ -s out.html ]] || fail "cw4d view wrote no out.html"
 grep -q '/\*cw4d:config\*/{}' out.html && fail "out.html still holds the empty configuration marker"
-grep -q 'start(createCw4d, {"d":' out.html || fail "out.html has no configuration passed to start()"
+grep -q 'start(createCw4d, {"off":"4OFF' out.html || fail "out.html has no configuration passed to start()"
 grep -q '"name":"tesseract' out.html || fail "out.html does not name the model"
 grep -q '"off":"4OFF' out.html || fail "out.html does not hold the model as 4OFF"
 grep -q 'createCw4d' out.html && grep -q 'WebAssembly' out.html ||

@@ -254,7 +254,8 @@ void write_gltf_file(const std::string& path, const std::vector<GltfNode>& nodes
   namespace fs = std::filesystem;
   const fs::path bin_path = fs::path(path).replace_extension(".bin");
   if (bin_path == fs::path(path))
-    throw InputError("cannot write '" + path + "': its buffer would go to the same file");
+    throw InputError("cannot write " + quote_user_text(path) +
+                     ": its buffer would go to the same file");
   // tinygltf's stream writer embeds the buffer as a data URI; point it at the .bin instead.
   const std::vector<unsigned char> data = model.buffers.front().data;
   nlohmann::json json = nlohmann::json::parse(serialize(model, false));

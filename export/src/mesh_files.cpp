@@ -12,6 +12,7 @@
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/text.hpp"
 #include "mute_openmesh.hpp"
 
 namespace cw4d {
@@ -43,7 +44,8 @@ std::string write_to_string(const TriMesh& mesh, const std::string& ext, OpenMes
   MuteOpenMesh mute;
   std::ostringstream out(std::ios::binary);
   if (!OpenMesh::IO::write_mesh(mesh, out, ext, opt))
-    throw IoError("cannot write '" + path + "': OpenMesh's " + ext + " writer failed");
+    throw IoError("cannot write " + quote_user_text(path) + ": OpenMesh's " + ext +
+                  " writer failed");
   return out.str();
 }
 

@@ -20,6 +20,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/operators.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "mute_openmesh.hpp"
@@ -131,7 +132,7 @@ void check_announced_counts(const std::string& path, std::uintmax_t size) {
 std::pair<std::string, int> parse_file_steps(std::string_view args, std::string_view spec) {
   const std::size_t comma = args.rfind(',');
   if (comma == std::string_view::npos || comma == 0)
-    throw InputError("model spec '" + std::string(spec) + "' expects FILE,STEPS");
+    throw InputError("model spec " + quote_user_text(std::string(spec)) + " expects FILE,STEPS");
   return {std::string(args.substr(0, comma)), parse_ints(args.substr(comma + 1), spec, 1)[0]};
 }
 

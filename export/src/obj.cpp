@@ -9,6 +9,7 @@
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/section/triangulate.hpp"
 
 namespace cw4d {
@@ -220,7 +221,8 @@ void write_obj_file(const std::string& path, const Section& section, const ObjOp
   namespace fs = std::filesystem;
   const fs::path mtl_path = fs::path(path).replace_extension(".mtl");
   if (mtl_path == fs::path(path))
-    throw InputError("cannot write '" + path + "': its materials would go to the same file");
+    throw InputError("cannot write " + quote_user_text(path) +
+                     ": its materials would go to the same file");
   ObjOptions opt = options;
   opt.material_library = mtl_path.filename().string();
   const std::string obj = obj_text(section, opt);  // may throw: before anything is written

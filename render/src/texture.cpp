@@ -11,6 +11,7 @@
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/input_file.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/render/color.hpp"
 #include "cw4d/render/image.hpp"
 #include "cw4d/render/tolerances.hpp"
@@ -86,10 +87,10 @@ ImageVolume ImageVolume::from_png_slices(const std::vector<std::string>& paths) 
     if (const auto header = png_header(bytes)) {
       const std::uint64_t texels = std::uint64_t(header->width) * std::uint64_t(header->height);
       if (texels <= max_png_texels && total + texels > max_volume_texels)
-        throw InputError("image volume slice '" + paths[k] + "' (" + std::to_string(header->width) +
-                         "x" + std::to_string(header->height) + ") brings the volume beyond the " +
-                         std::to_string(max_volume_texels) + " texels cw4d holds (" +
-                         std::to_string(paths.size()) + " slices)");
+        throw InputError("image volume slice " + quote_user_text(paths[k]) + " (" +
+                         std::to_string(header->width) + "x" + std::to_string(header->height) +
+                         ") brings the volume beyond the " + std::to_string(max_volume_texels) +
+                         " texels cw4d holds (" + std::to_string(paths.size()) + " slices)");
       total += texels;
     }
     const Image8 img = decode_png(bytes, paths[k]);
@@ -98,9 +99,10 @@ ImageVolume ImageVolume::from_png_slices(const std::vector<std::string>& paths) 
       v.height = img.height;
       v.texels.reserve(static_cast<std::size_t>(v.width) * v.height * v.depth);
     } else if (img.width != v.width || img.height != v.height) {
-      throw InputError("image volume slice '" + paths[k] + "' is " + std::to_string(img.width) +
-                       "x" + std::to_string(img.height) + ", the first slice " +
-                       std::to_string(v.width) + "x" + std::to_string(v.height));
+      throw InputError("image volume slice " + quote_user_text(paths[k]) + " is " +
+                       std::to_string(img.width) + "x" + std::to_string(img.height) +
+                       ", the first slice " + std::to_string(v.width) + "x" +
+                       std::to_string(v.height));
     }
     const int n = img.channels;
     for (int j = 0; j < img.height; ++j) {
@@ -175,7 +177,7 @@ std::string SlicePattern::path(int i) const {
 
 SlicePattern parse_slice_pattern(std::string_view pattern) {
   auto refuse = [&](const std::string& why) -> SlicePattern {
-    throw InputError("texture volume pattern '" + std::string(pattern) + "' " + why +
+    throw InputError("texture volume pattern " + quote_user_text(pattern) + " " + why +
                      " (write one %d or %0Nd with N = 1..9, and %% for a percent sign)");
   };
   if (pattern.size() > 4096) return refuse("is longer than 4096 characters");
@@ -230,7 +232,8 @@ std::vector<std::string> slice_paths(const std::string& pattern) {
     for (const auto& e : fs::directory_iterator(pattern, ec))
       if (e.path().extension() == ".png") out.push_back(e.path().string());
     std::sort(out.begin(), out.end());
-    if (out.empty()) throw InputError("no .png slices in the directory '" + pattern + "'");
+    if (out.empty())
+      throw InputError("no .png slices in the directory " + quote_user_text(pattern));
     return out;
   }
   const SlicePattern p = parse_slice_pattern(pattern);
@@ -242,7 +245,8 @@ std::vector<std::string> slice_paths(const std::string& pattern) {
     out.push_back(std::move(path));
   }
   if (out.empty())
-    throw InputError("texture volume pattern '" + pattern + "' names no file (from number 0)");
+    throw InputError("texture volume pattern " + quote_user_text(pattern) +
+                     " names no file (from number 0)");
   return out;
 }
 
@@ -255,8 +259,8 @@ float parse_scale(const std::string& text, const std::string& spec) {
     used = 0;
   }
   if (used != text.size() || !(v > 0.0f) || !std::isfinite(v) || v > 1e6f)
-    throw InputError("texture '" + spec + "': the scale must be a number in (0, 1e6], not '" +
-                     text + "'");
+    throw InputError("texture " + quote_user_text(spec) +
+                     ": the scale must be a number in (0, 1e6], not " + quote_user_text(text));
   return v;
 }
 
@@ -288,12 +292,13 @@ Texture3D parse_texture(const std::string& spec) {
         rest = rest.substr(0, last);
       }
     }
-    if (rest.empty()) throw InputError("texture '" + spec + "': give volume:DIRECTORY or PATTERN");
+    if (rest.empty())
+      throw InputError("texture " + quote_user_text(spec) + ": give volume:DIRECTORY or PATTERN");
     t.volume = std::make_shared<const ImageVolume>(ImageVolume::from_png_slices(slice_paths(rest)));
     return t;
   }
-  throw InputError("unknown texture '" + spec +
-                   "' (checker[:S], grid[:S], wood[:S], marble[:S], volume:PNGS[:S])");
+  throw InputError("unknown texture " + quote_user_text(spec) +
+                   " (checker[:S], grid[:S], wood[:S], marble[:S], volume:PNGS[:S])");
 }
 
 const Texture3D* TextureAssignment::find(std::uint32_t object, std::uint32_t cell) const {
@@ -311,7 +316,7 @@ void add_texture(TextureAssignment& a, const std::string& value) {
         value.substr(k.size(), colon == std::string::npos ? std::string::npos : colon - k.size());
     if (colon == std::string::npos || id.empty() ||
         id.find_first_not_of("0123456789") != std::string::npos || id.size() > 9)
-      throw InputError("--texture '" + value + "': write " + k + "INDEX:SPEC");
+      throw InputError("--texture " + quote_user_text(value) + ": write " + k + "INDEX:SPEC");
     auto tex = std::make_shared<const Texture3D>(parse_texture(value.substr(colon + 1)));
     const auto index = static_cast<std::uint32_t>(std::stoul(id));
     (k == "cell=" ? a.per_cell : a.per_object)[index] = std::move(tex);

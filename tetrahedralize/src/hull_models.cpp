@@ -19,6 +19,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/input_file.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 
 namespace cw4d {
@@ -146,7 +147,9 @@ Complex make_glome_spec(const std::string& spec, std::string_view args) {
   const auto comma = args.find(',');
   bool ok = comma != std::string_view::npos;
   const double r = ok ? parse_double(args.substr(0, comma), &ok) : 0.0;
-  if (!ok) throw InputError("model spec '" + spec + "': expected glome:R,N with a number R");
+  if (!ok)
+    throw InputError("model spec " + quote_user_text(spec) +
+                     ": expected glome:R,N with a number R");
   const auto n = parse_ints(args.substr(comma + 1), spec, 1)[0];
   return make_glome(r, n);
 }
@@ -171,7 +174,7 @@ Eigen::MatrixXd read_point_file(const std::string& path) {
     while (fields >> token) {
       bool ok = false;
       const double value = parse_double(token, &ok);
-      if (!ok) throw ParseError(path, line_no, "'" + token + "' is not a finite number");
+      if (!ok) throw ParseError(path, line_no, quote_user_text(token) + " is not a finite number");
       coords.push_back(value);
       ++count;
     }

@@ -12,6 +12,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/triangulate.hpp"
@@ -391,10 +392,10 @@ std::optional<UvwMapping> uvw_mapping_for_spec(const std::string& spec) {
     m.radius = std::stod(args, &used);
     if (used >= args.size() || args[used] != ',') throw InputError("");
   } catch (const std::exception&) {
-    throw InputError("model spec '" + spec + "': expected " + head + ":R,N");
+    throw InputError("model spec " + quote_user_text(spec) + ": expected " + head + ":R,N");
   }
   if (!(m.radius > 0.0) || !std::isfinite(m.radius))
-    throw InputError("model spec '" + spec + "': the radius must be positive");
+    throw InputError("model spec " + quote_user_text(spec) + ": the radius must be positive");
   return m;
 }
 
