@@ -110,7 +110,8 @@ std::pair<int, int> parse_image_size(const std::string& text) {
   const int w = x == std::string::npos ? 0 : side(std::string_view(text).substr(0, x));
   const int h = x == std::string::npos ? 0 : side(std::string_view(text).substr(x + 1));
   if (w == 0 || h == 0)
-    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not " + quote_user_text(text));
+    throw InputError("--size must be WIDTHxHEIGHT with sides 1..16384, not " +
+                     quote_user_text(text));
   return {w, h};
 }
 
@@ -344,9 +345,10 @@ Input load_input(const Placement& placement) {
   for (std::size_t i = 0; i < in.scene.objects.size(); ++i) {
     const SceneObject& obj = in.scene.objects[i];
     check_placement(*obj.complex, obj.transform,
-                    in.is_scene ? "object " + std::to_string(i) + " (" + quote_user_text(obj.model) +
-                                      ") of scene " + quote_user_text(placement.scene)
-                                : "model " + quote_user_text(obj.model));
+                    in.is_scene
+                        ? "object " + std::to_string(i) + " (" + quote_user_text(obj.model) +
+                              ") of scene " + quote_user_text(placement.scene)
+                        : "model " + quote_user_text(obj.model));
   }
   std::vector<const Complex*> checked;  // objects share models: validate each once
   for (const auto& obj : in.scene.objects) {
