@@ -599,6 +599,19 @@ TEST_CASE("inputs that announce more than they hold: exit 2 before allocating",
     CHECK(r.err.find("pixels in memory") != std::string::npos);
     CHECK_FALSE(dir.exists("a.png"));
   }
+  SECTION("a net drawn at 16384 x 16384 pixels shares the renderer's budget") {
+    // 2.7e8 pixels, beyond the 1.5e8 a picture may hold; 12000 x 12000 (1.44e8) is within it,
+    // refused here only for the model the test gives (the budget is checked first).
+    const Result r = run_guarded(dir, {"net", "tesseract", "--size", "16384x16384", "-o", "n.png"});
+    CHECK(r.code == usage);
+    check_one_printable_error_line(r);
+    CHECK(r.err.find("pixels in memory") != std::string::npos);
+    CHECK_FALSE(dir.exists("n.png"));
+    const Result within =
+        run_guarded(dir, {"net", "no-such-model", "--size", "12000x12000", "-o", "n.png"});
+    CHECK(within.code == usage);
+    CHECK(within.err.find("pixels in memory") == std::string::npos);
+  }
 }
 
 TEST_CASE("orientation_work counts what orienting walks, and bounds it up front",

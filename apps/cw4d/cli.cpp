@@ -96,6 +96,18 @@ std::vector<double> parse_vector(const std::string& text, const std::string& opt
   return out;
 }
 
+void check_held_pixels(const std::string& size, int width, int height, double images,
+                       const std::string& fewer) {
+  const double held = static_cast<double>(width) * height * images;
+  if (held > kMaxHeldPixels)
+    throw InputError(
+        "--size " + quote_user_text(size) + " would hold " +
+        std::to_string(static_cast<long long>(std::min(held, 9e18))) + " pixels in memory (" +
+        std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
+        " MB); cw4d holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
+        ": give a smaller --size" + fewer);
+}
+
 std::pair<int, int> parse_image_size(const std::string& text) {
   // Parsed with from_chars rather than sscanf("%dx%d"), whose %d is undefined for a number
   // beyond int (glibc wraps 4294967297 to 1) and which skips leading spaces and signs.

@@ -61,9 +61,17 @@ std::string join(const std::vector<double>& values, std::string (*fmt)(double));
 double parse_number(std::string_view text, const std::string& what);
 /// "x,y,z,w" -> numbers (the count is checked against the model's dimension later).
 std::vector<double> parse_vector(const std::string& text, const std::string& option);
-/// The extension of `path`, lower case, with its dot ("" when none).
 /// "WIDTHxHEIGHT" (--size), each side 1..16384. \throw InputError
 std::pair<int, int> parse_image_size(const std::string& text);
+/// The most pixels a picture command (render, net) holds at once: linear RGBA floats of 16
+/// bytes each, about 2.4 GB.
+inline constexpr double kMaxHeldPixels = 1.5e8;
+/// Refuses a picture of `size` (the --size text, width x height) held `images` times over
+/// beyond kMaxHeldPixels; `fewer` says what else to reduce (" or fewer --layers"), if anything.
+/// \throw InputError
+void check_held_pixels(const std::string& size, int width, int height, double images,
+                       const std::string& fewer = {});
+/// The extension of `path`, lower case, with its dot ("" when none).
 std::string lower_extension(const std::string& path);
 bool is_off_extension(const std::string& ext);
 /// "12 vertices, 18 edges, 8 faces"

@@ -50,6 +50,7 @@ void run_net(NetSettings& s) {
   render::RasterOptions raster;
   if (png) {
     std::tie(raster.width, raster.height) = parse_image_size(s.size);
+    check_held_pixels(s.size, raster.width, raster.height, 1.0);
   }
 
   const Complex model = load(s.model);

@@ -238,9 +238,9 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
   return "animation (" + std::to_string(s.frames) + " frames, " + s.animate + ")";
 }
 
-// The pixels a render holds at once (linear RGBA floats, 16 bytes each): a contact sheet keeps
-// every layer and the sheet, a stereo pair both views and the pair.
-constexpr double kMaxHeldPixels = 1.5e8;  // about 2.4 GB
+// The pixels a render holds at once are bounded by kMaxHeldPixels: a contact sheet keeps every
+// layer and the sheet, a stereo pair both views and the pair. An animation's frames are drawn
+// one at a time, bounded in all by this.
 constexpr double kMaxAnimationPixels = 8e8;
 
 void check_pixel_budget(const RenderSettings& s) {
@@ -258,19 +258,10 @@ void check_pixel_budget(const RenderSettings& s) {
                      " pixels; render animates at most " +
                      std::to_string(static_cast<long long>(kMaxAnimationPixels)) +
                      ": give a smaller --size or fewer --frames");
-  const double held = static_cast<double>(r.width) * r.height * images;
-  if (held > kMaxHeldPixels)
-    throw InputError(
-        "--size " + s.size +
-        (s.mode == "sheet" ? " with " + std::to_string(layers) + " layers" : std::string()) +
-        " would hold " + std::to_string(static_cast<long long>(std::min(held, 9e18))) +
-        " pixels in memory (" +
-        std::to_string(static_cast<long long>(std::min(held * 16 / 1e6, 9e18))) +
-        " MB); render holds at most " + std::to_string(static_cast<long long>(kMaxHeldPixels)) +
-        ": give a smaller --size" +
-        (s.mode == "sheet"    ? " or fewer --layers"
-         : !s.animate.empty() ? " or fewer --frames"
-                              : ""));
+  check_held_pixels(s.size, r.width, r.height, images,
+                    s.mode == "sheet"    ? " or fewer --layers"
+                    : !s.animate.empty() ? " or fewer --frames"
+                                         : "");
 }
 
 void run_render(RenderSettings& s) {

@@ -66,8 +66,33 @@ bool separated(const Piece& a, const Piece& b, const Eigen::VectorXd& axis, doub
   return pa.maxCoeff() - pb.minCoeff() <= tol || pb.maxCoeff() - pa.minCoeff() <= tol;
 }
 
+// The normal of `normals` that points most along `towards` (the first on ties), or -1.
+int most_aligned(const std::vector<Eigen::VectorXd>& normals, const Eigen::VectorXd& towards) {
+  int best = -1;
+  double best_dot = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const double d = normals[i].dot(towards);
+    if (d > best_dot) {
+      best_dot = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
 bool pieces_overlap(const Piece& a, const Piece& b, double tol) {
-  if ((a.centre - b.centre).norm() >= a.radius + b.radius - tol) return false;
+  const Eigen::VectorXd towards_b = b.centre - a.centre;
+  if (towards_b.norm() >= a.radius + b.radius - tol) return false;
+  // Pieces that are apart are nearly always split by the facet of one that faces the other:
+  // those two axes are tried first, so a pair of many-sided pieces costs a pass over the
+  // normals instead of a projection of every point per normal. (Only the order of the
+  // separating-axis tests changes, not the answer.)
+  if (const int i = most_aligned(a.normals, towards_b);
+      i >= 0 && separated(a, b, a.normals[i], tol))
+    return false;
+  if (const int i = most_aligned(b.normals, -towards_b);
+      i >= 0 && separated(a, b, b.normals[i], tol))
+    return false;
   for (const auto& n : a.normals)
     if (separated(a, b, n, tol)) return false;
   for (const auto& n : b.normals)
