@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // files), no number above 5 and at most two ':' (one operator around one parametric model).
   // The library rejects huge models, but the largest ones it accepts take seconds per input
   // under the sanitizers: building cube:7 decomposes its 6-cube facets into 6! * 2^6 simplices
-  // each for the normals, and ditorus:...,128 has 2 million cells.
+  // each for the normals, and ditorus:...,64 has 262144 cells.
   if (spec.find('/') != std::string::npos) return 0;
   if (std::count(spec.begin(), spec.end(), ':') > 2) return 0;
   int number = 0;

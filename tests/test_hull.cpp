@@ -374,6 +374,10 @@ TEST_CASE("glome volumes approach pi^2 R^4 / 2", "[hull][models]") {
   CHECK(v2 == Approx(std::pow(2.5, 4) * v1).epsilon(1e-9));
   CHECK_THROWS_AS(load_model("glome:0,3", default_catalogue()), InputError);
   CHECK_THROWS_AS(load_model("glome:1,0", default_catalogue()), InputError);
+  // Beyond the resolution whose hull builds in seconds: refused before any point is made.
+  CHECK_THROWS_AS(
+      load_model("glome:1," + std::to_string(max_glome_resolution + 1), default_catalogue()),
+      InputError);
   CHECK_THROWS_AS(load_model("glome:1", default_catalogue()), InputError);
   CHECK_THROWS_AS(load_model("glome:x,3", default_catalogue()), InputError);
 }

@@ -257,6 +257,14 @@ TEST_CASE("toratopes: closed valid non-convex complexes whose volumes converge f
   CHECK_THROWS_AS(load_model("ditorus:2,1.5,0.7,8"), InputError);  // R1 <= R2 + r
   CHECK_THROWS_AS(load_model("torisphere:2,0.7,2"), InputError);   // N < 3
   CHECK_THROWS_AS(load_model("spheritorus:2,x,8"), InputError);
+  // Beyond the finest resolution: refused from the spec, before anything is built (at 128 the
+  // spheritorus took half a minute to build before the orientation budget refused it).
+  for (const std::string spec :
+       {"spheritorus:2,1,", "torisphere:2,1,", "ditorus:4,2,1,", "tiger:2,2,1,"}) {
+    CAPTURE(spec);
+    CHECK_THROWS_AS(load_model(spec + std::to_string(max_toratope_resolution + 1)), InputError);
+    CHECK_THROWS_AS(load_model(spec + "128"), InputError);
+  }
   CHECK_THROWS_AS(load_model("tiger:2,2,0.7"), InputError);
 }
 

@@ -593,17 +593,17 @@ std::vector<ModelFamily> default_families() {
                                   }));
   };
   add_toratope("spheritorus", "spheritorus:R,r,N",
-               "sphere of radius r swept around a circle of radius R (non-convex), N = 3..128", 2,
+               "sphere of radius r swept around a circle of radius R (non-convex), N = 3..64", 2,
                [](const std::vector<double>& r, int n) { return make_spheritorus(r[0], r[1], n); });
   add_toratope("torisphere", "torisphere:R,r,N",
-               "circle of radius r swept over a sphere of radius R (non-convex), N = 3..128", 2,
+               "circle of radius r swept over a sphere of radius R (non-convex), N = 3..64", 2,
                [](const std::vector<double>& r, int n) { return make_torisphere(r[0], r[1], n); });
   add_toratope(
       "ditorus", "ditorus:R1,R2,r,N",
-      "torus (R2, r) swept around a circle of radius R1 (non-convex), N = 3..128", 3,
+      "torus (R2, r) swept around a circle of radius R1 (non-convex), N = 3..64", 3,
       [](const std::vector<double>& r, int n) { return make_ditorus(r[0], r[1], r[2], n); });
   add_toratope("tiger", "tiger:R1,R2,r,N",
-               "tiger: (|(x,w)| - R1)^2 + (|(y,z)| - R2)^2 <= r^2 (non-convex), N = 3..128", 3,
+               "tiger: (|(x,w)| - R1)^2 + (|(y,z)| - R2)^2 <= r^2 (non-convex), N = 3..64", 3,
                [](const std::vector<double>& r, int n) { return make_tiger(r[0], r[1], r[2], n); });
   f.push_back(
       parametric_family("wythoff", "wythoff:DIAGRAM",

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/error.hpp"
@@ -23,6 +25,33 @@ void* stbi_bounded_malloc(std::size_t n) {
 
 void* stbi_bounded_realloc(void* p, std::size_t n) {
   return n <= stbi_allocation_limit ? std::realloc(p, n) : nullptr;
+}
+
+// The PNG without its empty IDAT chunks, or nothing when it has none. An empty IDAT is legal
+// and holds no data, but stb_image copies its zero bytes into a buffer it has not allocated yet
+// (memcpy from a null pointer). Chunks are followed while their lengths fit in the bytes; the
+// rest (a truncated or corrupt tail, for stb_image to refuse) is kept as it is.
+std::optional<std::vector<unsigned char>> without_empty_idat(std::span<const unsigned char> b) {
+  auto be32 = [&](std::size_t at) {
+    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
+           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  };
+  auto empty_idat = [&](std::size_t at) {
+    return be32(at) == 0 && b[at + 4] == 'I' && b[at + 5] == 'D' && b[at + 6] == 'A' &&
+           b[at + 7] == 'T';
+  };
+  auto next = [&](std::size_t at) -> std::size_t {  // the next chunk, or 0 past the last whole one
+    return at + 12 <= b.size() && be32(at) <= b.size() - at - 12 ? at + 12 + be32(at) : 0;
+  };
+  bool any = false;
+  for (std::size_t at = 8; next(at) != 0; at = next(at)) any = any || empty_idat(at);
+  if (!any) return std::nullopt;
+  std::vector<unsigned char> out(b.begin(), b.begin() + 8);
+  std::size_t at = 8;
+  for (; next(at) != 0; at = next(at))
+    if (!empty_idat(at)) out.insert(out.end(), b.begin() + at, b.begin() + next(at));
+  out.insert(out.end(), b.begin() + std::min(at, b.size()), b.end());
+  return out;
 }
 
 }  // namespace
@@ -194,6 +223,8 @@ Image8 decode_png(std::span<const unsigned char> bytes, const std::string& name,
     ~Limit() { stbi_allocation_limit = 0; }
   } limit(2 * bytes.size() + 9 * static_cast<std::size_t>(texels) +
           static_cast<std::size_t>(header->height) + (std::size_t{1} << 20));
+  const std::optional<std::vector<unsigned char>> filtered = without_empty_idat(bytes);
+  if (filtered) bytes = *filtered;
   int w = 0, h = 0, n = 0;
   stbi_uc* pixels =
       stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &n, 0);

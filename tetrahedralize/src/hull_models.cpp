@@ -229,7 +229,9 @@ Complex make_grand_antiprism() {
 Complex make_glome(double r, int n) {
   if (!std::isfinite(r) || r <= 0.0)
     throw InputError("glome:R,N needs a radius R > 0, got " + std::to_string(r));
-  if (n < 1 || n > 24) throw InputError("glome:R,N needs a resolution N of 1..24");
+  if (n < 1 || n > max_glome_resolution)
+    throw InputError("glome:R,N needs a resolution N of 1.." +
+                     std::to_string(max_glome_resolution) + ", got " + std::to_string(n));
   std::vector<Eigen::Vector4d> points;
   const double pi = std::numbers::pi;
   for (int i = 0; i <= n; ++i) {
@@ -285,7 +287,7 @@ std::vector<ModelFamily> hull_families() {
   f.push_back(parametric_family(
       "glome", "glome:R,N",
       "convex polytope inscribed in the 3-sphere of radius R, Hopf-coordinate grid of "
-      "resolution N = 1..24 (volume -> pi^2 R^4 / 2)",
+      "resolution N = 1..12 (volume -> pi^2 R^4 / 2)",
       make_glome_spec));
   return f;
 }
