@@ -822,6 +822,46 @@ TEST_CASE("regression: planes tilted 1e-6 to 1e-16 rad from cells and vertex lay
 // section() keeps compiled models per thread, keyed on the complex's address and revision():
 // every change between two calls must show in the second (oracle: the volumes of the cube's
 // and the 16-cell's sections in closed form).
+TEST_CASE("regression: 120-cell sections by planes tilted 1e-12 rad off a cell through its vertex",
+          "[degenerate][tilt]") {
+  // A plane through a vertex of a cell, tilted 1e-12 rad from it, meets that cell's other
+  // vertices at plane values of ~1e-12 x their distance from the trace: an error of 1e-16 in
+  // such a value (a solve in doubles) moves the vertex across the trace by 1e-4. Vertices that
+  // near the trace then took one side by their values and the other where the facets' planes
+  // put the crossings, a crossing stayed at its rounded t off the cut polygon's plane, and the
+  // section was not convex (its vertices' hull 4.6e-4 larger than its volume). The section of
+  // a convex polytope is convex: the hull of its vertices (CGAL) encloses its volume exactly.
+  const Complex c = load_model("120-cell");
+  std::mt19937 rng(2026);
+  std::normal_distribution<double> gauss;
+  const double tilt = 1e-12;
+  double worst = 0.0;
+  int planes = 0;
+  for (std::uint32_t k = 0; k < c.count(3); ++k) {
+    const Eigen::Vector4d n0 = c.facet_normals().col(k);
+    const auto verts = c.vertices_of(3, k);
+    for (int trial = 0; trial < 3; ++trial) {
+      Eigen::Vector4d t;
+      for (int i = 0; i < 4; ++i) t[i] = gauss(rng);
+      t -= t.dot(n0) * n0;
+      t.normalize();
+      const Eigen::Vector4d u = std::cos(tilt) * n0 + std::sin(tilt) * t;
+      const auto v = verts[std::uniform_int_distribution<std::size_t>(0, verts.size() - 1)(rng)];
+      const Section s = section(c, Hyperplane{u, u.dot(c.position(v))});
+      if (s.empty()) continue;
+      ++planes;
+      const double volume = signed_volume(s.complex);
+      const double hull = signed_volume(convex_hull(s.complex.positions()));
+      INFO("cell " << k << " trial " << trial << " volume " << volume << " hull " << hull);
+      CHECK(volume > 0.0);
+      CHECK(std::abs(hull - volume) <= 1e-9 * hull);
+      worst = std::max(worst, std::abs(hull - volume) / hull);
+    }
+  }
+  INFO("worst relative hull excess " << worst);
+  CHECK(planes >= 300);
+}
+
 TEST_CASE("section() sees every change made to a complex between calls", "[section][cache]") {
   const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 0.25);
   const auto volume = [&](const Complex& c) {

@@ -229,7 +229,37 @@ class FacetPlanes {
         rhs += r.rhs * row;
       }
       const auto y = solve(m, rhs);
-      if (y) s[v] = (*y)[n_ - 1] * len_n_;
+      if (!y) continue;
+      // sigma must be exact to far below the rounding of a solve in doubles: it is ~tilt x
+      // (distance from the trace), so an absolute error of 1e-16 is a move of 1e-16 / tilt
+      // across the trace (1e-4 at 1e-12 rad), and a vertex that near the trace would take
+      // the other side than place() (whose normalised rows have no such loss) finds, which
+      // then puts the crossing beyond the edge's end and leaves it at its rounded t: a cut
+      // polygon off its plane, a non-convex section. So the solution is refined, kept as an
+      // unevaluated sum hi + lo, with residuals in twice the working precision (plane_value):
+      // every row's coefficients and right-hand side are exact to full relative precision,
+      // so sigma becomes exact to about 1e-30 absolute.
+      Eigen::VectorXd hi = *y, lo = Eigen::VectorXd::Zero(n_), g(n_), coef(2 * n_), at(2 * n_);
+      for (int pass = 0; pass < 2; ++pass) {
+        g.setZero();
+        at << hi, lo;
+        for (const std::uint32_t f : list) {
+          const Row& r = row_of(f);
+          row.head(n_ - 1) = r.u;
+          row[n_ - 1] = r.c;
+          coef << row, row;
+          g -= plane_value(coef, r.rhs, at.data()) * row;  // (rhs - row . y) row
+        }
+        const auto dy = solve(m, g);
+        if (!dy) break;
+        lo += *dy;
+        for (int j = 0; j < n_; ++j) {  // renormalised: hi + lo exactly, |lo| <= ulp(hi) / 2
+          const double sum = hi[j] + lo[j], z = sum - hi[j];
+          lo[j] = (hi[j] - (sum - z)) + (lo[j] - z);
+          hi[j] = sum;
+        }
+      }
+      s[v] = (hi[n_ - 1] + lo[n_ - 1]) * len_n_;
     }
   }
 
