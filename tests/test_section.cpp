@@ -819,9 +819,6 @@ TEST_CASE("regression: planes tilted 1e-6 to 1e-16 rad from cells and vertex lay
   CHECK(snapped > 0);
 }
 
-// section() keeps compiled models per thread, keyed on the complex's address and revision():
-// every change between two calls must show in the second (oracle: the volumes of the cube's
-// and the 16-cell's sections in closed form).
 TEST_CASE("regression: 120-cell sections by planes tilted 1e-12 rad off a cell through its vertex",
           "[degenerate][tilt]") {
   // A plane through a vertex of a cell, tilted 1e-12 rad from it, meets that cell's other
@@ -862,6 +859,9 @@ TEST_CASE("regression: 120-cell sections by planes tilted 1e-12 rad off a cell t
   CHECK(planes >= 300);
 }
 
+// section() keeps compiled models per thread, keyed on the complex's address and revision():
+// every change between two calls must show in the second (oracle: the volumes of the cube's
+// and the 16-cell's sections in closed form).
 TEST_CASE("section() sees every change made to a complex between calls", "[section][cache]") {
   const Hyperplane plane = Hyperplane::from(Eigen::Vector4d(0, 0, 0, 1), 0.25);
   const auto volume = [&](const Complex& c) {
