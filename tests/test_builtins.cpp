@@ -224,3 +224,36 @@ TEST_CASE("one catalogue serves many threads", "[catalogue][threads]") {
   for (auto& thread : threads) thread.join();
   CHECK(wrong == std::vector<int>(4, 0));
 }
+
+TEST_CASE("families beyond what builds in seconds are refused from the spec",
+          "[builtins][limits]") {
+  // Each message names the bound; the counts in it are checked against closed forms.
+  auto refusal = [](const std::string& spec) {
+    try {
+      (void)load_model(spec);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    FAIL("accepted " << spec);
+    return std::string();
+  };
+  // A product of P and Q has (sum_i f_i(P)) (sum_j f_j(Q)) elements: (2N + 1)^2 for two N-gons.
+  CHECK_THAT(refusal("duocylinder:1,707"),
+             Catch::Contains(std::to_string(1415 * 1415) + " elements, at most 2000000"));
+  CHECK_THAT(refusal("duoprism:707,707"),
+             Catch::Contains(std::to_string(1415 * 1415) + " elements, at most 2000000"));
+  // sphere:R,578 has V = 288 * 578 + 2, F = 289 * 578 faces, E = V + F - 2, and its solid; the
+  // spherinder (its prism) 3 times that.
+  {
+    const long long v = 288LL * 578 + 2, f = 289LL * 578, total = 2 * v + 2 * f - 1;
+    CHECK_THAT(refusal("spherinder:1,578"),
+               Catch::Contains(std::to_string(3 * total) + " elements"));
+  }
+  CHECK_THAT(refusal("antiprism:250001"), Catch::Contains("3..250000"));
+  CHECK_THAT(refusal("prism:antiprism:250000"), Catch::Contains("at most 2000000"));
+  // Just inside, where building is quick: the counts are the closed forms.
+  const Complex s = load_model("sphere:1,8");
+  CHECK(s.fvector() == std::vector<std::size_t>{3 * 8 + 2, 3 * 8 + 4 * 8, 4 * 8});
+  const Complex a = load_model("antiprism:9");
+  CHECK(a.fvector() == std::vector<std::size_t>{2 * 9, 4 * 9, 2 * 9 + 2});
+}

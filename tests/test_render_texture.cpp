@@ -977,6 +977,10 @@ TEST_CASE("PNG reads are bounded: regular files, bytes and texels", "[render][te
       decode_png({reinterpret_cast<const unsigned char*>(with_empty.data()), with_empty.size()});
   CHECK(same.width == 2);
   CHECK(same.bytes == img.bytes);
+  // Cut short after an empty IDAT's header (its CRC incomplete): refused as unreadable.
+  const std::string cut = small.substr(0, idat) + chunk("IDAT", "").substr(0, 11);
+  CHECK_THROWS_AS(decode_png({reinterpret_cast<const unsigned char*>(cut.data()), cut.size()}),
+                  ParseError);
   // An image volume: a FIFO slice is refused (not a hang, not the volume's end).
   std::filesystem::rename(fifo, dir / "f0.png");
   CHECK_THROWS_AS(parse_texture("volume:" + (dir / "f%d.png").string()), ParseError);

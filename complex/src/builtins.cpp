@@ -553,7 +553,7 @@ std::vector<ModelFamily> default_families() {
                "circumradius, e.g. dual:120-cell is a 600-cell",
                [](const Complex& m) { return make_dual_same_size(m); });
   f.push_back(parametric_family("antiprism", "antiprism:N",
-                                "uniform 3D N-gonal antiprism, edge 2, axis z (N >= 3); "
+                                "uniform 3D N-gonal antiprism, edge 2, axis z (N = 3..250000); "
                                 "prism:antiprism:N is the uniform antiprismatic prism",
                                 [](const std::string& spec, std::string_view a) {
                                   return make_antiprism(parse_ints(a, spec, 1)[0]);

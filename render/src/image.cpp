@@ -30,7 +30,8 @@ void* stbi_bounded_realloc(void* p, std::size_t n) {
 // The PNG without its empty IDAT chunks, or nothing when it has none. An empty IDAT is legal
 // and holds no data, but stb_image copies its zero bytes into a buffer it has not allocated yet
 // (memcpy from a null pointer). Chunks are followed while their lengths fit in the bytes; the
-// rest (a truncated or corrupt tail, for stb_image to refuse) is kept as it is.
+// rest (a truncated or corrupt tail, for stb_image to refuse) is kept as it is, unless it
+// starts as an empty IDAT.
 std::optional<std::vector<unsigned char>> without_empty_idat(std::span<const unsigned char> b) {
   auto be32 = [&](std::size_t at) {
     return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
@@ -43,14 +44,17 @@ std::optional<std::vector<unsigned char>> without_empty_idat(std::span<const uns
   auto next = [&](std::size_t at) -> std::size_t {  // the next chunk, or 0 past the last whole one
     return at + 12 <= b.size() && be32(at) <= b.size() - at - 12 ? at + 12 + be32(at) : 0;
   };
+  // A tail that starts like an empty IDAT but is cut short of its CRC is dropped too (stb_image
+  // reads its header before finding the end).
+  auto empty_idat_tail = [&](std::size_t at) { return at + 8 <= b.size() && empty_idat(at); };
   bool any = false;
-  for (std::size_t at = 8; next(at) != 0; at = next(at)) any = any || empty_idat(at);
-  if (!any) return std::nullopt;
-  std::vector<unsigned char> out(b.begin(), b.begin() + 8);
   std::size_t at = 8;
-  for (; next(at) != 0; at = next(at))
+  for (; next(at) != 0; at = next(at)) any = any || empty_idat(at);
+  if (!any && !empty_idat_tail(at)) return std::nullopt;
+  std::vector<unsigned char> out(b.begin(), b.begin() + 8);
+  for (at = 8; next(at) != 0; at = next(at))
     if (!empty_idat(at)) out.insert(out.end(), b.begin() + at, b.begin() + next(at));
-  out.insert(out.end(), b.begin() + std::min(at, b.size()), b.end());
+  if (!empty_idat_tail(at)) out.insert(out.end(), b.begin() + std::min(at, b.size()), b.end());
   return out;
 }
 
