@@ -242,8 +242,9 @@ Sums integrate(const Complex& complex, double scale, const Eigen::MatrixXd& sp,
   Mat y(n, n), second = Mat::Zero(n, n);
   Vec s(n), first = Vec::Zero(n), a = apex;
   std::vector<const double*> q(static_cast<std::size_t>(n));
-  const double nf = factorial(n);
-  const double c1 = 1.0 / (n + 1), c2 = 1.0 / ((n + 1.0) * (n + 2.0));
+  // Summed as determinants (n! times the signed volumes) and divided once at the end, as
+  // signed_volume does: a box's integer determinants then add up exactly.
+  double total = 0.0;
   Sums sums;
   for (std::uint32_t f = 0; f < complex.count(k); ++f) {
     for_each_simplex(complex, k, f, [&](std::span<const std::uint32_t> v, int sign) {
@@ -252,16 +253,20 @@ Sums integrate(const Complex& complex, double scale, const Eigen::MatrixXd& sp,
         for (int i = 0; i < n; ++i) y(i, j) = q[j][i] - a(i);
       }
       counter.add(q, sign);
-      const double vol = sign * y.determinant() / nf;
-      if (vol == 0.0) return;
+      const double det = sign * y.determinant();
+      if (det == 0.0) return;
       s = y.rowwise().sum();
-      sums.volume += vol;
-      first += (vol * c1) * s;
-      second.noalias() += (vol * c2) * y * y.transpose();
-      second.noalias() += (vol * c2) * s * s.transpose();
+      total += det;
+      first += det * s;
+      second.noalias() += det * y * y.transpose();
+      second.noalias() += det * s * s.transpose();
     });
     sums.boundary += facet_area_vector(complex, f, scale).norm();
   }
+  const double nf = factorial(n);
+  sums.volume = total / nf;
+  first /= nf * (n + 1);
+  second /= nf * (n + 1) * (n + 2);
   sums.first = first;
   sums.second = second;
   return sums;
@@ -279,9 +284,14 @@ MassProperties mass_properties(const Complex& complex) {
   const Eigen::VectorXd apex = sp.rowwise().mean();
 
   WindingCounter counter(n, winding_probes(complex, scale, apex));
+  // Fixed sizes up to R^4 take Eigen's closed-form determinants (exact for small integer
+  // coordinates, as signed_volume); larger ones an LU on the stack up to R^8.
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 8, 8>;
-  const Sums sums = n <= 8 ? integrate<Small>(complex, scale, sp, apex, counter)
-                           : integrate<Eigen::MatrixXd>(complex, scale, sp, apex, counter);
+  const Sums sums = n == 2   ? integrate<Eigen::Matrix2d>(complex, scale, sp, apex, counter)
+                    : n == 3 ? integrate<Eigen::Matrix3d>(complex, scale, sp, apex, counter)
+                    : n == 4 ? integrate<Eigen::Matrix4d>(complex, scale, sp, apex, counter)
+                    : n <= 8 ? integrate<Small>(complex, scale, sp, apex, counter)
+                             : integrate<Eigen::MatrixXd>(complex, scale, sp, apex, counter);
   const double volume = sums.volume, boundary = sums.boundary;
   const Eigen::VectorXd& first = sums.first;
   const Eigen::MatrixXd& second = sums.second;
