@@ -783,3 +783,63 @@ TEST_CASE("net refuses bad requests with one line and writes nothing", "[cli][ne
     CHECK(!dir.exists("x.png"));
   }
 }
+
+TEST_CASE("info reports the mass properties, atlas the critical offsets", "[cli]") {
+  TempDir dir;
+  // [-1,1]^4: hypervolume 16, eight cubes of 8, centroid 0, int x^2 = 2^3 * 2/3 = 16/3.
+  const auto j = nlohmann::json::parse(run(dir, {"info", "tesseract", "--json"}).out);
+  const auto& m = j.at("mass");
+  CHECK(m.at("hypervolume").get<double>() == Approx(16.0).epsilon(1e-14));
+  CHECK(m.at("boundary_volume").get<double>() == Approx(64.0).epsilon(1e-14));
+  REQUIRE(m.at("centroid").size() == 4);
+  REQUIRE(m.at("second_moment").size() == 4);
+  for (int i = 0; i < 4; ++i) {
+    CHECK(std::abs(m["centroid"][i].get<double>()) < 1e-14);
+    for (int k = 0; k < 4; ++k)
+      CHECK(m["second_moment"][i][k].get<double>() ==
+            Approx(i == k ? 16.0 / 3.0 : 0.0).margin(1e-13));
+  }
+  CHECK(m.at("winding_weighted") == false);
+  const Result text = run(dir, {"info", "tesseract"});
+  CHECK(text.out.find("boundary   64") != std::string::npos);
+  const auto star = nlohmann::json::parse(run(dir, {"info", "great 120-cell", "--json"}).out);
+  CHECK(star.at("mass").at("winding_weighted") == true);
+  CHECK(run(dir, {"info", "great 120-cell"}).out.find("winding number") != std::string::npos);
+
+  dir.write("open.4off", kOpenCell);
+  const auto open = nlohmann::json::parse(run(dir, {"info", "open.4off", "--json"}).out);
+  CHECK(open.at("mass").is_null());
+  CHECK(!open.at("mass_reason").get<std::string>().empty());
+
+  // The tesseract along (1,1,1,1): heights -2..2; tetrahedron, truncated tetrahedron twice,
+  // tetrahedron.
+  const Result atlas = run(dir, {"atlas", "tesseract", "--normal", "1,1,1,1", "--json"});
+  REQUIRE(atlas.code == 0);
+  const auto a = nlohmann::json::parse(atlas.out);
+  CHECK(a.at("critical_offsets") == nlohmann::json({-2.0, -1.0, 0.0, 1.0, 2.0}));
+  REQUIRE(a.at("intervals").size() == 4);
+  CHECK(a["intervals"][0]["f_vector"] == nlohmann::json({4, 6, 4}));
+  CHECK(a["intervals"][1]["f_vector"] == nlohmann::json({12, 18, 8}));
+  CHECK(a["intervals"][1]["from"] == -1.0);
+  CHECK(a["intervals"][1]["to"] == 0.0);
+  CHECK(a["critical_sections"][2]["f_vector"] == nlohmann::json({6, 12, 8}));
+  CHECK(a["critical_sections"][2]["degenerate"] == true);
+
+  const Result sheet =
+      run(dir, {"atlas", "tesseract", "--normal", "1,0,0,0", "-o", "out/sheet.png"});
+  CHECK(sheet.code == 0);
+  CHECK(dir.exists("out/sheet.png"));
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"atlas", "tesseract", "--normal", "0,0,0,0"},
+           {"atlas", "tesseract", "--normal", "1,0,0"},
+           {"atlas", "tesseract"},
+           {"atlas", "no-such-model", "--normal", "1,0,0,0"},
+           {"atlas", "tesseract", "--normal", "1,0,0,0", "-o", "x.obj"}}) {
+    const Result bad = run(dir, args);
+    CHECK(bad.code == 1);
+    check_one_error_line(bad);
+  }
+  const Result invalid = run(dir, {"atlas", "open.4off", "--normal", "1,0,0,0"});
+  CHECK(invalid.code == 3);
+  check_one_error_line(invalid);
+}

@@ -183,5 +183,6 @@ void add_render_command(CLI::App& app, Commands& commands);
 void add_tetrahedralize_command(CLI::App& app, Commands& commands);
 void add_bench_command(CLI::App& app, Commands& commands);
 void add_view_command(CLI::App& app, Commands& commands);
+void add_atlas_command(CLI::App& app, Commands& commands);
 
 }  // namespace cw4d::cli

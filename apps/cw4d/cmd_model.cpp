@@ -9,6 +9,7 @@
 #include "cli.hpp"
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/mass.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
@@ -73,6 +74,16 @@ void run_info(const InfoSettings& s) {
       out_of_range = "below the range of a double (the coordinates are too small)";
     has_volume = !out_of_range;
   }
+  // Mass properties of the solid (closed, valid models only; otherwise the reason).
+  std::optional<MassProperties> mass;
+  std::string no_mass = "the model is not a valid closed complex";
+  if (report.ok()) {
+    try {
+      mass = mass_properties(model);
+    } catch (const Error& e) {
+      no_mass = e.what();
+    }
+  }
   std::optional<std::pair<double, double>> range;
   Eigen::VectorXd unit;
   if (!normal.empty()) {
@@ -95,6 +106,19 @@ void run_info(const InfoSettings& s) {
     for (const auto& issue : report.issues) j["issues"].push_back(issue.what);
     j["bounds"] = {{"min", lo}, {"max", hi}};
     j["volume"] = has_volume ? nlohmann::ordered_json(volume) : nlohmann::ordered_json(nullptr);
+    if (mass) {
+      std::vector<std::vector<double>> rows;
+      for (int i = 0; i < dim; ++i)
+        rows.emplace_back(mass->second_moment.row(i).begin(), mass->second_moment.row(i).end());
+      j["mass"] = {{"hypervolume", mass->hypervolume},
+                   {"boundary_volume", mass->boundary_volume},
+                   {"centroid", std::vector<double>(mass->centroid.begin(), mass->centroid.end())},
+                   {"second_moment", rows},
+                   {"winding_weighted", mass->winding_weighted}};
+    } else {
+      j["mass"] = nullptr;
+      j["mass_reason"] = no_mass;
+    }
     if (range) {
       j["normal"] = std::vector<double>(unit.data(), unit.data() + unit.size());
       j["offsets"] = {{"min", range->first}, {"max", range->second}};
@@ -119,6 +143,23 @@ void run_info(const InfoSettings& s) {
                 : out_of_range ? out_of_range
                                : "n/a (invalid complex)")
             << '\n';
+  if (mass) {
+    std::vector<double> c(mass->centroid.begin(), mass->centroid.end());
+    std::string rows;
+    for (int i = 0; i < dim; ++i) {
+      std::vector<double> row(mass->second_moment.row(i).begin(), mass->second_moment.row(i).end());
+      rows += (i ? ", (" : "(") + join(row, brief) + ")";
+    }
+    std::cout << "boundary   " << brief(mass->boundary_volume) << " (" << dim - 1
+              << "-volume of the facets)\n"
+              << "centroid   (" << join(c, brief) << ")\n"
+              << "moment     (" << rows << ")  (int x x^T over the solid, about the origin)\n";
+    if (mass->winding_weighted)
+      std::cout << "winding    the boundary winds more than once around some points (a star "
+                   "model): volume, centroid and moment are weighted by the winding number\n";
+  } else {
+    std::cout << "mass       n/a (" << no_mass << ")\n";
+  }
   if (range) {
     std::vector<double> u(unit.data(), unit.data() + unit.size());
     std::cout << "offsets    d from " << brief(range->first) << " to " << brief(range->second)
@@ -148,7 +189,8 @@ void run_convert(const ConvertSettings& s) {
 void add_info_command(CLI::App& app, Commands& commands) {
   auto settings = std::make_shared<InfoSettings>();
   auto* cmd = app.add_subcommand(
-      "info", "Report dimension, f-vector, validity, bounds and volume of a model.");
+      "info",
+      "Report dimension, f-vector, validity, bounds, volume and mass properties of a model.");
   cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
       ->required();
   cmd->add_flag("--json", settings->json, "Print one JSON object instead of text");
@@ -158,7 +200,14 @@ void add_info_command(CLI::App& app, Commands& commands) {
       ->type_name("X,Y,Z,W");
   cmd->footer(
       "An invalid model is reported (\"valid\": false, with its issues), not an error: exit 0.\n"
-      "The volume is null / n/a for an invalid model. Exit codes: see 'cw4d --help'.");
+      "The volume is null / n/a for an invalid model.\n"
+      "Mass properties of the solid of density 1 (JSON \"mass\"): hypervolume, boundary_volume\n"
+      "(the facets' (n-1)-volume), centroid and second_moment = int x x^T dV about the origin\n"
+      "(an n x n matrix; about the centroid subtract hypervolume * c c^T), exact to rounding\n"
+      "(signed simplices of the oriented boundary). A star model (the boundary winds more than\n"
+      "once) gives winding-weighted values and \"winding_weighted\": true. A model that is not\n"
+      "closed and valid has \"mass\": null and the reason in \"mass_reason\".\n"
+      "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [settings] { run_info(*settings); }});
 }
 

@@ -45,6 +45,7 @@ int cw4d::cli::run(int argc, char** argv) {
   cli::add_render_command(app, commands);
   cli::add_tetrahedralize_command(app, commands);
   cli::add_convert_command(app, commands);
+  cli::add_atlas_command(app, commands);
   cli::add_bench_command(app, commands);
   cli::add_view_command(app, commands);
 

@@ -32,6 +32,7 @@ from ._cw4d import (
     ValidationIssue,
     ValidationReport,
     antiprism,
+    atlas,
     build_complex,
     builtin_list,
     cube,

@@ -7,6 +7,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/complex/geometry.hpp"
+#include "cw4d/complex/mass.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/toratopes.hpp"
@@ -168,6 +169,33 @@ void bind_complex(py::module_& m) {
       .def_property_readonly(
           "volume", [](const Complex& c) { return signed_volume(c); },
           "Signed n-volume enclosed by the facets (positive when outward).")
+      .def(
+          "mass_properties",
+          [](const Complex& c) {
+            MassProperties m;
+            {
+              py::gil_scoped_release nogil;
+              m = mass_properties(c);
+            }
+            const auto n = static_cast<py::ssize_t>(m.dim);
+            std::vector<double> centroid(m.centroid.data(), m.centroid.data() + n);
+            std::vector<double> second(static_cast<std::size_t>(n * n));
+            for (py::ssize_t i = 0; i < n; ++i)
+              for (py::ssize_t j = 0; j < n; ++j)
+                second[static_cast<std::size_t>(i * n + j)] = m.second_moment(i, j);
+            py::dict d;
+            d["hypervolume"] = m.hypervolume;
+            d["boundary_volume"] = m.boundary_volume;
+            d["centroid"] = adopt(std::move(centroid));
+            d["second_moment"] = adopt(std::move(second), n);
+            d["winding_weighted"] = m.winding_weighted;
+            return d;
+          },
+          "Mass properties of the solid of density 1 the closed model bounds, exact to rounding: "
+          "a dict with 'hypervolume', 'boundary_volume' (the facets' (n-1)-volume), 'centroid' "
+          "(n,), 'second_moment' (n, n) = int x x^T dV about the origin, and "
+          "'winding_weighted' (True for a star model: the values are weighted by the winding "
+          "number). Raises TopologyError for a model that is not closed.")
       .def(
           "element_volume",
           [](const Complex& c, int rank, std::uint32_t i) {

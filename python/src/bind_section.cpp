@@ -8,6 +8,7 @@
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/scene.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/section/atlas.hpp"
 #include "cw4d/section/scene_section.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
@@ -272,6 +273,62 @@ void bind_section(py::module_& m) {
   def_cut("section_general", &section_general,
           "The general layered cut alone (no fast path): same result as section(), the second "
           "algorithm of the tests.");
+
+  m.def(
+      "atlas",
+      [](const Complex& model, py::object normal, const std::optional<AffineTransform>& transform,
+         bool sections) {
+        const Eigen::VectorXd n = to_vector(normal, "normal");
+        (void)Hyperplane::from(n, 0.0);  // refuses a zero or non-finite normal
+        const AffineTransform xf = or_identity(transform, model.ambient_dim());
+        check_model_placement(model, xf);
+        AtlasOptions options;
+        options.keep_sections = sections;
+        Atlas a;
+        {
+          py::gil_scoped_release nogil;
+          a = section_atlas(model, n, xf, options);
+        }
+        const auto fv = [](const std::vector<std::size_t>& f) {
+          py::list l;
+          for (auto c : f) l.append(c);
+          return l;
+        };
+        py::dict d;
+        d["normal"] =
+            adopt(std::vector<double>(a.normal.data(), a.normal.data() + a.normal.size()));
+        d["tolerance"] = a.tolerance;
+        py::list offsets, critical, intervals;
+        for (double c : a.critical_offsets) offsets.append(c);
+        for (const auto& c : a.critical) {
+          py::dict x;
+          x["offset"] = c.offset;
+          x["f_vector"] = fv(c.fvector);
+          x["degenerate"] = true;
+          critical.append(x);
+        }
+        for (std::size_t i = 0; i < a.intervals.size(); ++i) {
+          py::dict x;
+          x["from"] = a.intervals[i].from;
+          x["to"] = a.intervals[i].to;
+          x["offset"] = a.intervals[i].section.offset;
+          x["f_vector"] = fv(a.intervals[i].section.fvector);
+          if (sections) x["section"] = std::move(a.sections[i]);
+          intervals.append(x);
+        }
+        d["critical_offsets"] = offsets;
+        d["critical_sections"] = critical;
+        d["intervals"] = intervals;
+        return d;
+      },
+      py::arg("model"), py::arg("normal"), py::arg("transform") = py::none(),
+      py::arg("sections") = false,
+      "The section atlas along `normal` (any length; offsets along the unit normal): a dict "
+      "with 'critical_offsets' (the vertex heights, sorted, heights within 1e-9 of the model's "
+      "radius merged), 'critical_sections' (offset, f_vector, degenerate=True at each), "
+      "'intervals' (from, to, offset = the midpoint, f_vector; with sections=True also "
+      "'section', the Section cut there), 'normal' and 'tolerance'. The GIL is released while "
+      "it cuts.");
 
   m.def(
       "_seconds_per_section",

@@ -1,0 +1,89 @@
+#include "cw4d/section/atlas.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "cw4d/complex/error.hpp"
+#include "cw4d/section/hyperplane.hpp"
+
+namespace cw4d {
+
+namespace {
+
+std::vector<std::size_t> section_fvector(const Section& s, int model_dim) {
+  std::vector<std::size_t> f(static_cast<std::size_t>(std::max(model_dim - 1, 1)), 0);
+  for (std::size_t k = 0; k < f.size(); ++k) f[k] = s.complex.count(static_cast<int>(k));
+  return f;
+}
+
+}  // namespace
+
+std::vector<double> critical_offsets(const Complex& model, const Eigen::VectorXd& normal,
+                                     const AffineTransform& model_to_world, double* tolerance) {
+  const int n = model.ambient_dim();
+  if (normal.size() != n)
+    throw InputError("the normal has " + std::to_string(normal.size()) +
+                     " components; the model lives in R^" + std::to_string(n));
+  if (model_to_world.dim() != n)
+    throw InputError("the placement acts on R^" + std::to_string(model_to_world.dim()) +
+                     "; the model lives in R^" + std::to_string(n));
+  const Eigen::VectorXd unit = Hyperplane::from(normal, 0.0).normal;
+  const Eigen::MatrixXd world =
+      (model_to_world.linear() * model.positions()).colwise() + model_to_world.translation();
+  std::vector<double> h(static_cast<std::size_t>(world.cols()));
+  double radius = 0.0;
+  for (Eigen::Index v = 0; v < world.cols(); ++v) {
+    h[static_cast<std::size_t>(v)] = unit.dot(world.col(v));
+    radius = std::max(radius, world.col(v).norm());
+  }
+  if (!std::isfinite(radius)) throw InputError("the placed model has a coordinate beyond range");
+  std::sort(h.begin(), h.end());
+  const double tol = atlas_merge_rel * radius;
+  if (tolerance) *tolerance = tol;
+  std::vector<double> out;
+  for (std::size_t i = 0; i < h.size();) {
+    std::size_t j = i + 1;
+    while (j < h.size() && h[j] - h[j - 1] <= tol) ++j;
+    // The value most often computed in the run (rounding scatters a few heights of a
+    // symmetric model around the exact one), else the run's median.
+    std::size_t best = i + (j - 1 - i) / 2, best_count = 1;
+    for (std::size_t a = i; a < j;) {
+      std::size_t b = a + 1;
+      while (b < j && h[b] == h[a]) ++b;
+      if (b - a > best_count) best = a, best_count = b - a;
+      a = b;
+    }
+    out.push_back(h[best]);
+    i = j;
+  }
+  return out;
+}
+
+Atlas section_atlas(const Complex& model, const Eigen::VectorXd& normal,
+                    const AffineTransform& model_to_world, const AtlasOptions& options) {
+  Atlas atlas;
+  atlas.critical_offsets = critical_offsets(model, normal, model_to_world, &atlas.tolerance);
+  atlas.normal = Hyperplane::from(normal, 0.0).normal;
+  const int n = model.ambient_dim();
+  const auto cut = [&](double d) {
+    return section(model, Hyperplane::from(atlas.normal, d), model_to_world);
+  };
+  const auto& c = atlas.critical_offsets;
+  if (options.critical_sections)
+    for (double d : c) atlas.critical.push_back({d, section_fvector(cut(d), n)});
+  for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+    const double mid = 0.5 * c[i] + 0.5 * c[i + 1];
+    Section s = cut(mid);
+    atlas.intervals.push_back({c[i], c[i + 1], {mid, section_fvector(s, n)}});
+    if (options.keep_sections) atlas.sections.push_back(std::move(s));
+  }
+  return atlas;
+}
+
+Atlas section_atlas(const Complex& model, const Eigen::VectorXd& normal,
+                    const AtlasOptions& options) {
+  return section_atlas(model, normal, AffineTransform::identity(model.ambient_dim()), options);
+}
+
+}  // namespace cw4d
