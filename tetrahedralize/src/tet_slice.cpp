@@ -321,10 +321,7 @@ class CrossingProjector {
   CrossingProjector(const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset)
       : W_(W), offset_(offset) {
 #if defined(__SSE2__)
-    for (int c = 0; c < 4; ++c) {
-      w01_[c] = _mm_set_pd(W(1, c), W(0, c));
-      w2_[c] = W(2, c);
-    }
+    for (int c = 0; c < 4; ++c) w01_[c] = _mm_set_pd(W(1, c), W(0, c));
     off01_ = _mm_set_pd(offset[1], offset[0]);
 #endif
   }
@@ -343,8 +340,8 @@ class CrossingProjector {
     y01 = _mm_add_pd(y01, _mm_mul_pd(w01_[2], x2));
     y01 = _mm_add_pd(y01, _mm_mul_pd(w01_[3], x3));
     _mm_storeu_pd(y, _mm_add_pd(y01, off01_));
-    y[2] = w2_[0] * _mm_cvtsd_f64(x0) + w2_[1] * _mm_cvtsd_f64(x1) + w2_[2] * _mm_cvtsd_f64(x2) +
-           w2_[3] * _mm_cvtsd_f64(x3) + offset_[2];
+    y[2] = W_(2, 0) * _mm_cvtsd_f64(x0) + W_(2, 1) * _mm_cvtsd_f64(x1) +
+           W_(2, 2) * _mm_cvtsd_f64(x2) + W_(2, 3) * _mm_cvtsd_f64(x3) + offset_[2];
 #else
     double x[4];
     for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
@@ -358,7 +355,6 @@ class CrossingProjector {
   const Eigen::Vector3d& offset_;
 #if defined(__SSE2__)
   __m128d w01_[4], off01_;
-  double w2_[4];
 #endif
 };
 
