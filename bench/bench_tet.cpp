@@ -1,14 +1,16 @@
 // The two section paths side by side: the CW-complex section on its hot path (one SliceModel
 // compiled once, SliceModelOptions::unclustered(), one Slicer and one SliceBuffers reused for
 // every slice: polygons) and the tetrahedral slicer (cw4d::slice_tets over a TetMesh made once),
-// on the 120-cell and the 600-cell, over the same fixed list of 256 generic planes (random unit
-// normal from a seeded std::mt19937, offset uniform in +-0.9 max_radius). One iteration is one
-// slice; the planes are cycled. Counter `tris` is the average number of triangles per slice:
-// for the CW path SliceBuffers::fan_triangles() (the k - 2 triangles of each k-gon, what a fan
-// triangulation sends to a GPU), for the tet path the triangles it emits. `section/*` is the
-// convenience call cw4d::section(model, plane) (a Section with its own Complex per call), for
-// reference; `tetrahedralize/*` times building the mesh itself (once per model).
-// In console mode the program ends with the tet/CW ratios of time and triangles of this run.
+// on the 120-cell, the 600-cell and the 32,32-duoprism, over the same fixed list of 256 generic
+// planes (random unit normal from a seeded std::mt19937, offset uniform in +-0.9 max_radius). One
+// iteration is one slice; the planes are cycled. `tet/*` is the returning slice_tets (a new
+// TetSection per call), `tet-slicer/*` a caller-owned TetSlicer into one reused TetSliceMesh (the
+// steady path, printed as nanoseconds per tetrahedron at the end). Counter `tris` is the average
+// number of triangles per slice: for the CW path SliceBuffers::fan_triangles() (the k - 2 triangles
+// of each k-gon, what a fan triangulation sends to a GPU), for the tet path the triangles it emits.
+// `section/*` is the convenience call cw4d::section(model, plane) (a Section with its own Complex
+// per call), for reference; `tetrahedralize/*` times building the mesh itself (once per model). In
+// console mode the program ends with the tet/CW ratios of time and triangles of this run.
 //
 //   bench_tet [--benchmark_filter=REGEX] [--benchmark_min_time=SECONDS] ...
 #include <benchmark/benchmark.h>
@@ -91,6 +93,23 @@ void tet_slices(benchmark::State& state, const Model& m) {
   state.counters["tris"] = benchmark::Counter(tris, benchmark::Counter::kAvgIterations);
 }
 
+// The steady path: a caller-owned TetSlicer into one reused TetSliceMesh (indexed, welded).
+// Counter `ns/tet`: CPU nanoseconds per tetrahedron of the mesh.
+void tet_slicer_slices(benchmark::State& state, const Model& m) {
+  cw4d::TetSlicer slicer;
+  cw4d::TetSliceMesh out;
+  std::size_t i = 0;
+  double tris = 0;
+  for (auto _ : state) {
+    slicer.slice(m.mesh, m.planes[i], out);
+    benchmark::DoNotOptimize(out.triangles.data());
+    tris += static_cast<double>(out.triangle_count());
+    if (++i == m.planes.size()) i = 0;
+  }
+  state.counters["tris"] = benchmark::Counter(tris, benchmark::Counter::kAvgIterations);
+  state.counters["tets"] = static_cast<double>(m.mesh.size());
+}
+
 void build_mesh(benchmark::State& state, const Model& m) {
   for (auto _ : state) {
     cw4d::TetMesh mesh = cw4d::tetrahedralize(m.complex);
@@ -101,7 +120,7 @@ void build_mesh(benchmark::State& state, const Model& m) {
 
 std::vector<std::shared_ptr<Model>> register_cases(bool default_min_time) {
   std::vector<std::shared_ptr<Model>> models;
-  for (std::string spec : {"120-cell", "600-cell"}) {
+  for (std::string spec : {"120-cell", "600-cell", "duoprism:32,32"}) {
     auto m = std::make_shared<Model>();
     m->name = spec;
     m->complex = cw4d::load_model(spec);
@@ -122,6 +141,7 @@ std::vector<std::shared_ptr<Model>> register_cases(bool default_min_time) {
     const std::vector<std::pair<std::string, void (*)(benchmark::State&, const Model&)>> runs = {
         {"cw/" + spec, cw_slices},
         {"tet/" + spec, tet_slices},
+        {"tet-slicer/" + spec, tet_slicer_slices},
         {"section/" + spec, section_slices},
         {"tetrahedralize/" + spec, build_mesh}};
     for (const auto& [name, fn] : runs) {
@@ -172,6 +192,13 @@ class RatioReporter : public benchmark::ConsoleReporter {
           "tetrahedra\n",
           m->name.c_str(), time, cpu_[tet], cpu_[cw], time >= 3.0 ? "met" : "NOT met", tris,
           m->tet_tris, m->cw_tris, tris >= 3.0 ? "met" : "NOT met", m->mesh.size());
+      const std::string ts = "tet-slicer/" + m->name;
+      if (cpu_.count(ts))
+        std::printf(
+            "  %-9s TetSlicer into a reused TetSliceMesh: %.2f us, %.2f ns per tetrahedron, "
+            "%.2fx the hot CW slice\n",
+            m->name.c_str(), cpu_[ts], cpu_[ts] * 1e3 / static_cast<double>(m->mesh.size()),
+            cpu_[ts] / cpu_[cw]);
       const std::string sec = "section/" + m->name;
       if (cpu_.count(sec))
         std::printf("  %-9s section() / Slicer::slice: %.2fx (%.2f vs %.2f us)\n", m->name.c_str(),

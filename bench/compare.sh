@@ -11,7 +11,7 @@
 # COUNT=1 prints instructions per operation (bench_instructions under valgrind's callgrind: the
 # slice, section, tet, sweep and sweep-slices cases, per layer for the last two, and the new
 # tree's 256 x slice / sweep) instead of times: the figure a loaded machine does not move.
-# COUNT_MODELS="tesseract 600-cell" restricts its models.
+# COUNT_MODELS="tesseract 600-cell" restricts its models, COUNT_MODES="tet" its cases.
 # COMPARE_DIR=/tmp/somewhere keeps REF's worktree and build there for later runs (only the
 # benchmark itself is recompiled); remove it with `git worktree remove --force DIR/old`.
 set -euo pipefail
@@ -80,7 +80,7 @@ if [[ "${COUNT:-0}" == 1 ]]; then
   printf "%-28s %12s %12s %9s\n" "case" "old" "new" "old/new"
   cmodels=${COUNT_MODELS:-tesseract 24-cell 120-cell 600-cell duoprism:32,32}
   declare -A newc
-  for mode in slice section tet sweep sweep-slices; do
+  for mode in ${COUNT_MODES:-slice section tet sweep sweep-slices}; do
     for m in $cmodels; do
       per=()
       for side in old new; do
@@ -96,6 +96,7 @@ if [[ "${COUNT:-0}" == 1 ]]; then
     done
   done
   for m in $cmodels; do
+    [[ -n "${newc[sweep-slices/$m]:-}" && -n "${newc[sweep/$m]:-}" ]] || continue
     awk -v c="$m" -v s="${newc[sweep-slices/$m]}" -v w="${newc[sweep/$m]}" \
       'BEGIN { printf "new %-24s 256 x slice / sweep %.2fx\n", c, s / w }'
   done

@@ -3,7 +3,7 @@
 #     installs cw4d into PREFIX (the default install component: libraries, headers, package
 #     config; not the Python package) and checks that no installed header includes OpenMesh,
 #     CGAL or TetGen;
-#   cmake -DMODE=consume -DPREFIX=<dir> -DWORK=<dir> -DCOMPONENTS=section|all
+#   cmake -DMODE=consume -DPREFIX=<dir> -DWORK=<dir> -DCOMPONENTS=section|tetra|all
 #         -DCXX=... -DCXX_FLAGS=... -DLINKER_FLAGS=... -DBUILD_TYPE=... -P run.cmake
 #     configures, builds and runs the consumer against PREFIX in a fresh WORK directory.
 cmake_minimum_required(VERSION 3.20)
@@ -38,9 +38,9 @@ elseif(MODE STREQUAL "consume")
   if(LAUNCHER)
     list(APPEND args "-DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER}")
   endif()
-  if(COMPONENTS STREQUAL "section")
-    # A consumer of cw4d::section must not need these: make them unfindable.
-    list(APPEND args -DCW4D_COMPONENTS=section)
+  if(COMPONENTS STREQUAL "section" OR COMPONENTS STREQUAL "tetra")
+    # A consumer of cw4d::section or cw4d::tetra must not need these: make them unfindable.
+    list(APPEND args -DCW4D_COMPONENTS=${COMPONENTS})
     foreach(package OpenMesh CGAL TinyGLTF glm)
       list(APPEND args -DCMAKE_DISABLE_FIND_PACKAGE_${package}=ON)
     endforeach()

@@ -1,5 +1,6 @@
 // Tetrahedralization of the 3-cells of a 4D complex: one global face triangulation, coning of
-// convex cells, the 5-tetrahedron cube split, TetGen for the rest (tetgen_cell.cpp), UVW.
+// convex cells, the 5-tetrahedron cube split, the caller's mesher for the rest (TetGen, in
+// cw4d_tetrahedralize: tetgen_cell.cpp), UVW. Eigen only (cw4d_tetra).
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 
 #include <Eigen/Dense>
@@ -17,7 +18,6 @@
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/section/triangulate.hpp"
 #include "cw4d/section/uvw.hpp"
-#include "tetgen_cell.hpp"
 
 namespace cw4d {
 
@@ -512,7 +512,8 @@ void index_tet_edges(TetMesh& mesh) {
   }
 }
 
-TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetStats* stats) {
+TetMesh tetrahedralize_cells(const Complex& complex, const TetOptions& options,
+                             const NonConvexCellMesher& nonconvex, TetStats* stats) {
   if (complex.ambient_dim() != 4)
     throw InputError("tetrahedralize: the model lives in R^" +
                      std::to_string(complex.ambient_dim()) +
@@ -565,15 +566,19 @@ TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetSta
       tets = cone_cell(ctx, cf, normal, min_volume);
       if (tets) ++st.coned_cells;
     }
+    if (!tets && !nonconvex) {
+      ++st.skipped_cells;  // non-convex, and no mesher for it
+      continue;
+    }
     if (!tets) {
-      // Non-convex: TetGen on the cell's boundary triangles in the cell's own 3D frame.
+      // Non-convex: the mesher (TetGen in tetrahedralize) on the cell's boundary triangles.
       std::vector<Tri> boundary;
       for (std::size_t j = 0; j < cf.faces.size(); ++j)
         for (auto t : ft.triangles[cf.faces[j]]) {
           if (cf.signs[j] < 0) std::swap(t[1], t[2]);
           boundary.push_back(t);
         }
-      const auto result = tetgen_cell(complex, cell, cf.vertices, boundary, normal);
+      const CellTets result = nonconvex(complex, cell, cf.vertices, boundary, normal);
       std::vector<std::uint32_t> ids = cf.vertices;
       for (const auto& sp : result.steiner) {
         ids.push_back(nv + static_cast<std::uint32_t>(extra_points.size()));

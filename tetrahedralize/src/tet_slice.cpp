@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <type_traits>
 
 #if defined(__SSE2__)
@@ -58,6 +59,53 @@ constexpr std::array<TetCutCase, 16> make_table() {
 }  // namespace
 
 const std::array<TetCutCase, 16> kTetCutTable = make_table();
+
+namespace tet_slice_detail {
+// A cut tetrahedron as the triangle pass reads it.
+struct CutRecord {
+  std::uint32_t cut;    // (t << 4) | mask
+  std::uint32_t first;  // its first output triangle
+  std::uint32_t cell;
+  std::uint32_t i;  // its position in the cut list (corner slots 4 i .. 4 i + 3)
+};
+
+}  // namespace tet_slice_detail
+
+struct TetSlicer::Scratch {
+  std::vector<double> s;
+  std::vector<Side> side;
+  std::vector<std::uint8_t> up;    // 4 per vertex: byte k is 1 << k when it is positive, else 0
+  std::vector<std::uint32_t> cut;  // (t << 4) | mask of each cut tetrahedron
+  std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
+  std::vector<std::uint32_t> crossing;    // the edge of each output vertex
+  std::vector<double> u;                  // the parameter of each output vertex
+  std::vector<std::uint32_t> edge_owner;  // the last corner slot naming the edge
+  std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
+  std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
+  std::vector<std::uint32_t> cut_cells;   // each cut cell once
+  std::vector<tet_slice_detail::CutRecord> list3;  // the cut tetrahedra giving one triangle
+  std::vector<tet_slice_detail::CutRecord> list4;  // those giving a quad
+  std::vector<double> cell_n3;
+  std::vector<double> cell_y;  // the projected normals before scaling, with their squared norms
+  // An edge index for meshes whose tets were changed after tetrahedralize.
+  TetMesh edge_mesh;
+  // The general loop's soup, welded for the indexed form.
+  TetSection soup;
+  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
+  std::vector<TetCutPoint> cut_buf;
+  // The soup's cut: sides as bits, the cut tetrahedra, each cell's projected normal with the
+  // stamp of the slice that computed it.
+  std::vector<std::uint8_t> soup_up;
+  std::vector<std::uint32_t> soup_cut;
+  std::vector<std::uint32_t> cell_stamp;
+  std::vector<double> soup_cell_n3;
+  std::uint32_t stamp = 0;
+  // The last placement's linear map and what is derived from it alone (A^{-T}, det A < 0):
+  // slices under one placement compute them once.
+  bool have_lin = false;
+  Eigen::Matrix4d last_lin, last_normal_map;
+  bool last_flip = false;
+};
 
 double TetSection::volume() const {
   double v = 0.0;
@@ -190,52 +238,13 @@ struct Prepared {
   Eigen::Vector3d offset;
 };
 
-// A cut tetrahedron as the triangle pass reads it.
-struct CutRecord {
-  std::uint32_t cut;    // (t << 4) | mask
-  std::uint32_t first;  // its first output triangle
-  std::uint32_t cell;
-  std::uint32_t i;  // its position in the cut list (corner slots 4 i .. 4 i + 3)
-};
-
-struct Scratch {
-  std::vector<double> s;
-  std::vector<Side> side;
-  std::vector<std::uint8_t> up;    // 4 per vertex: byte k is 1 << k when it is positive, else 0
-  std::vector<std::uint32_t> cut;  // (t << 4) | mask of each cut tetrahedron
-  std::vector<std::uint32_t> corner_vid;  // 4 per cut tetrahedron: vertex of each cycle corner
-  std::vector<std::uint32_t> crossing;    // the edge of each output vertex
-  std::vector<double> u;                  // the parameter of each output vertex
-  std::vector<std::uint32_t> edge_owner;  // the last corner slot naming the edge
-  std::vector<std::uint32_t> slot_edge;   // the edge of each corner slot
-  std::vector<std::uint32_t> cell_owner;  // the last cut tetrahedron of the cell
-  std::vector<std::uint32_t> cut_cells;   // each cut cell once
-  std::vector<CutRecord> list3;           // the cut tetrahedra giving one triangle
-  std::vector<CutRecord> list4;           // those giving a quad
-  std::vector<double> cell_n3;
-  std::vector<double> cell_y;  // the projected normals before scaling, with their squared norms
-  // An edge index for meshes whose tets were changed after tetrahedralize.
-  TetMesh edge_mesh;
-  // The general loop's soup, welded for the indexed form.
-  TetSection soup;
-  std::vector<Eigen::Vector3d> pos_buf, nrm_buf, uvw_buf, all_pos, all_nrm, all_uvw;
-  std::vector<TetCutPoint> cut_buf;
-  // The last placement's linear map and what is derived from it alone (A^{-T}, det A < 0):
-  // slices under one placement compute them once.
-  bool have_lin = false;
-  Eigen::Matrix4d last_lin, last_normal_map;
-  bool last_flip = false;
-};
+using Scratch = TetSlicer::Scratch;
+using tet_slice_detail::CutRecord;
 
 // Scratch arrays only grow (their contents are written before they are read).
 template <class T>
 void grow(std::vector<T>& v, std::size_t n) {
   if (v.size() < n) v.resize(n);
-}
-
-Scratch& scratch() {
-  thread_local Scratch sc;
-  return sc;
 }
 
 void set_frame(HyperplaneFrame& f, const Hyperplane& p) {
@@ -302,6 +311,59 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
   pr.W = pr.bt * pr.lin;
   pr.NB = pr.bt * pr.normal_map;
   return pr;
+}
+
+// The section-frame position of the crossing at parameter u of the model edge from xa to xb
+// (4 doubles each): y = W ((1 - u) xa + u xb) + offset. The one formula of every crossing, in
+// the indexed cut and the soup alike, so both give the same bits.
+class CrossingProjector {
+ public:
+  CrossingProjector(const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset)
+      : W_(W), offset_(offset) {
+#if defined(__SSE2__)
+    for (int c = 0; c < 4; ++c) w01_[c] = _mm_set_pd(W(1, c), W(0, c));
+    off01_ = _mm_set_pd(offset[1], offset[0]);
+#endif
+  }
+  void operator()(const double* xa, const double* xb, double u, double* y) const {
+#if defined(__SSE2__)
+    // Rows 0 and 1 of the projection as lane pairs, row 2 alone: per lane the same operations
+    // in the same order as the scalar form below.
+    const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
+    const __m128d x01 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
+    const __m128d x23 =
+        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
+    const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
+    const __m128d x2 = _mm_unpacklo_pd(x23, x23), x3 = _mm_unpackhi_pd(x23, x23);
+    __m128d y01 = _mm_add_pd(_mm_mul_pd(w01_[0], x0), _mm_mul_pd(w01_[1], x1));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01_[2], x2));
+    y01 = _mm_add_pd(y01, _mm_mul_pd(w01_[3], x3));
+    _mm_storeu_pd(y, _mm_add_pd(y01, off01_));
+    y[2] = W_(2, 0) * _mm_cvtsd_f64(x0) + W_(2, 1) * _mm_cvtsd_f64(x1) +
+           W_(2, 2) * _mm_cvtsd_f64(x2) + W_(2, 3) * _mm_cvtsd_f64(x3) + offset_[2];
+#else
+    double x[4];
+    for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
+    for (int r = 0; r < 3; ++r)
+      y[r] = W_(r, 0) * x[0] + W_(r, 1) * x[1] + W_(r, 2) * x[2] + W_(r, 3) * x[3] + offset_[r];
+#endif
+  }
+
+ private:
+  const Eigen::Matrix<double, 3, 4>& W_;
+  const Eigen::Vector3d& offset_;
+#if defined(__SSE2__)
+  __m128d w01_[4], off01_;
+#endif
+};
+
+// A cell's outward normal n (4 doubles) as a unit direction of the section frame: y = NB n
+// scaled by 1 / |y| (0 when y is 0). The one formula of the indexed cut and the soup.
+inline double projected_normal(const Eigen::Matrix<double, 3, 4>& NB, const double* n, double* y) {
+  for (int r = 0; r < 3; ++r)
+    y[r] = NB(r, 0) * n[0] + NB(r, 1) * n[1] + NB(r, 2) * n[2] + NB(r, 3) * n[3];
+  return y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
 }
 
 // The indexed cut when no vertex is on the plane (every crossing is interior to its edge, no
@@ -460,47 +522,13 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   double* __restrict U = sc.u.data();
   double* __restrict out_pos = out.positions.data();
   TetCutPoint* __restrict out_src = out.vertex_source.data();
-  const Eigen::Matrix<double, 3, 4>& W = pr.W;
-#if defined(__SSE2__)
-  // Rows 0 and 1 of the projection as lane pairs, row 2 alone: per lane the same operations in
-  // the same order as the scalar form.
-  __m128d w01[4];
-  double w2[4];
-  for (int c = 0; c < 4; ++c) {
-    w01[c] = _mm_set_pd(W(1, c), W(0, c));
-    w2[c] = W(2, c);
-  }
-  const __m128d off01 = _mm_set_pd(pr.offset[1], pr.offset[0]);
-  const double off2 = pr.offset[2];
-#endif
+  const CrossingProjector project(pr.W, pr.offset);
   for (std::uint32_t v = 0; v < nvert; ++v) {
     const auto& ab = edges[crossing[nvert - 1 - v]];
     const std::uint32_t a = ab[0], b = ab[1];
     if (a >= nvtx || b >= nvtx) return false;  // an index that is not the tets' (never taken)
     const double u = s[a] / (s[a] - s[b]);
-    const double* xa = P + 4 * std::size_t{a};
-    const double* xb = P + 4 * std::size_t{b};
-    double* y = out_pos + 3 * std::size_t{v};
-#if defined(__SSE2__)
-    const __m128d uu = _mm_set1_pd(u), om = _mm_set1_pd(1.0 - u);
-    const __m128d x01 =
-        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa)), _mm_mul_pd(uu, _mm_loadu_pd(xb)));
-    const __m128d x23 =
-        _mm_add_pd(_mm_mul_pd(om, _mm_loadu_pd(xa + 2)), _mm_mul_pd(uu, _mm_loadu_pd(xb + 2)));
-    const __m128d x0 = _mm_unpacklo_pd(x01, x01), x1 = _mm_unpackhi_pd(x01, x01);
-    const __m128d x2 = _mm_unpacklo_pd(x23, x23), x3 = _mm_unpackhi_pd(x23, x23);
-    __m128d y01 = _mm_add_pd(_mm_mul_pd(w01[0], x0), _mm_mul_pd(w01[1], x1));
-    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[2], x2));
-    y01 = _mm_add_pd(y01, _mm_mul_pd(w01[3], x3));
-    _mm_storeu_pd(y, _mm_add_pd(y01, off01));
-    y[2] = w2[0] * _mm_cvtsd_f64(x0) + w2[1] * _mm_cvtsd_f64(x1) + w2[2] * _mm_cvtsd_f64(x2) +
-           w2[3] * _mm_cvtsd_f64(x3) + off2;
-#else
-    double x[4];
-    for (int r = 0; r < 4; ++r) x[r] = (1.0 - u) * xa[r] + u * xb[r];
-    for (int r = 0; r < 3; ++r)
-      y[r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + pr.offset[r];
-#endif
+    project(P + 4 * std::size_t{a}, P + 4 * std::size_t{b}, u, out_pos + 3 * std::size_t{v});
     out_src[v] = {a, b, u};
     U[v] = u;
   }
@@ -514,11 +542,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     const Eigen::Matrix<double, 3, 4>& NB = pr.NB;
     for (std::size_t j = 0; j < ncells; ++j) {
       const double* n = CN + 4 * std::size_t{cut_cells[j]};
-      double y[3];
-      for (int r = 0; r < 3; ++r)
-        y[r] = NB(r, 0) * n[0] + NB(r, 1) * n[1] + NB(r, 2) * n[2] + NB(r, 3) * n[3];
-      yz[4 * j] = y[0], yz[4 * j + 1] = y[1], yz[4 * j + 2] = y[2];
-      yz[4 * j + 3] = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      yz[4 * j + 3] = projected_normal(NB, n, yz + 4 * j);
     }
     auto write = [&](std::size_t j, double inv) {
       const std::size_t c = cut_cells[j];
@@ -613,25 +637,22 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
 // degenerates, no face lies in the plane): one pass over the corners' side bits lists the cut
 // tetrahedra (all on one side: skipped at once) and counts their triangles, the output is sized
 // once, and each cut tetrahedron is written straight into its final columns through the 16-case
-// table. Vertices are projected into the section frame once each (y = W p + offset), a crossing
-// interpolates the two projections. The same triangles, in the same order and orientation, as
-// the general loop of slice_tets.
-void cut_generic_soup(const TetMesh& mesh, const double* s, const Side* side,
-                      const Eigen::Matrix<double, 3, 4>& W, const Eigen::Vector3d& offset,
-                      const Eigen::Matrix<double, 3, 4>& NB, TetSection& out) {
+// table. Each corner is the crossing of its edge computed from that tetrahedron alone, by the
+// formulas of the indexed cut (CrossingProjector, projected_normal): the same bits as the
+// indexed cut's shared crossing. The same triangles, in the same order and orientation, as the
+// general loop of slice_tets.
+void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetSection& out) {
+  const double* s = sc.s.data();
+  const Side* side = sc.side.data();
   const std::size_t T = mesh.size();
   const std::size_t nv = static_cast<std::size_t>(mesh.positions.cols());
-  thread_local std::vector<std::uint8_t> up_store;
-  thread_local std::vector<std::uint32_t> cut_store;
-  thread_local std::vector<double> proj_store;
-  up_store.resize(nv);
-  cut_store.resize(T);
-  proj_store.resize(3 * nv);
-  std::uint8_t* up = up_store.data();
+  grow(sc.soup_up, nv);
+  grow(sc.soup_cut, T);
+  std::uint8_t* up = sc.soup_up.data();
   for (std::size_t v = 0; v < nv; ++v) up[v] = side[v] > Side::On;
   // Triangles per sign mask: none for 0 and 15, two for the quads (two corners each side).
   static constexpr std::uint8_t kTris[16] = {0, 1, 1, 2, 1, 2, 2, 1, 1, 2, 2, 1, 2, 1, 1, 0};
-  std::uint32_t* cut = cut_store.data();  // (t << 4) | mask of each cut tetrahedron
+  std::uint32_t* cut = sc.soup_cut.data();  // (t << 4) | mask of each cut tetrahedron
   std::size_t ncut = 0, tris = 0;
   const std::array<std::uint32_t, 4>* tets = mesh.tets.data();
   for (std::size_t t = 0; t < T; ++t) {
@@ -651,26 +672,21 @@ void cut_generic_soup(const TetMesh& mesh, const double* s, const Side* side,
   out.tet.resize(tris);
   out.cell.resize(tris);
   if (tris == 0) return;
-  // The vertices in section coordinates, each once.
+  const CrossingProjector project(pr.W, pr.offset);
   const double* P = mesh.positions.data();
-  double* Y = proj_store.data();
-  for (std::size_t v = 0; v < nv; ++v) {
-    const double* x = P + 4 * v;
-    for (int r = 0; r < 3; ++r)
-      Y[3 * v + r] = W(r, 0) * x[0] + W(r, 1) * x[1] + W(r, 2) * x[2] + W(r, 3) * x[3] + offset[r];
-  }
   const double* UVW = mesh.corner_uvw.data();
   const double* CN = mesh.cell_normals.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  thread_local std::vector<std::uint32_t> cell_stamp;
-  thread_local std::vector<double> cell_n3;
-  thread_local std::uint32_t stamp = 0;
-  if (cell_stamp.size() < mesh.cell_count())
-    cell_stamp.resize(mesh.cell_count(), 0), cell_n3.resize(3 * mesh.cell_count());
-  if (++stamp == 0) {  // wrapped: forget every stamp
-    std::fill(cell_stamp.begin(), cell_stamp.end(), 0u);
-    stamp = 1;
+  if (sc.cell_stamp.size() < mesh.cell_count()) {
+    sc.cell_stamp.resize(mesh.cell_count(), 0);
+    sc.soup_cell_n3.resize(3 * mesh.cell_count());
   }
+  if (++sc.stamp == 0) {  // wrapped: forget every stamp
+    std::fill(sc.cell_stamp.begin(), sc.cell_stamp.end(), 0u);
+    sc.stamp = 1;
+  }
+  std::uint32_t* cell_stamp = sc.cell_stamp.data();
+  const std::uint32_t stamp = sc.stamp;
   double* out_pos = out.positions.data();
   double* out_nrm = out.normals.data();
   double* out_uvw = out.uvw.data();
@@ -684,12 +700,12 @@ void cut_generic_soup(const TetMesh& mesh, const double* s, const Side* side,
     const auto& tv = tets[t];
     // The projected normal once per cell (every tetrahedron of a cell has the same one).
     const std::uint32_t cell = tet_cell[t];
-    double* n3 = &cell_n3[3 * cell];
+    double* n3 = sc.soup_cell_n3.data() + 3 * std::size_t{cell};
     if (cell_stamp[cell] != stamp) {
       cell_stamp[cell] = stamp;
-      const Eigen::Vector3d nn =
-          (NB * Eigen::Map<const Eigen::Vector4d>(CN + 4 * std::size_t{cell})).normalized();
-      n3[0] = nn[0], n3[1] = nn[1], n3[2] = nn[2];
+      const double z = projected_normal(pr.NB, CN + 4 * std::size_t{cell}, n3);
+      const double inv = z > 0.0 ? 1.0 / std::sqrt(z) : 0.0;
+      for (int r = 0; r < 3; ++r) n3[r] *= inv;
     }
     // The body compiled once for triangles and once for quads (fixed trip counts).
     auto cut_one = [&](auto count_tag) {
@@ -700,14 +716,10 @@ void cut_generic_soup(const TetMesh& mesh, const double* s, const Side* side,
         const auto [ka, kb, a, b] = crossing_edge(cc, e, tv);
         const double u = s[a] / (s[a] - s[b]);
         cp[e] = {a, b, u};
-        const double* ya = Y + 3 * a;
-        const double* yb = Y + 3 * b;
+        project(P + 4 * std::size_t{a}, P + 4 * std::size_t{b}, u, pos[e]);
         const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
         const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
-        for (int r = 0; r < 3; ++r) {
-          pos[e][r] = (1.0 - u) * ya[r] + u * yb[r];
-          uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
-        }
+        for (int r = 0; r < 3; ++r) uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
       }
       // Orientation: the polygon's normal must point along the projected outward normal.
       const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
@@ -995,27 +1007,34 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
     }
 }
 
-TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
-  return slice_tets(mesh, plane, identity4());
+TetSlicer::TetSlicer() : scratch_(std::make_unique<Scratch>()) {}
+TetSlicer::~TetSlicer() = default;
+TetSlicer::TetSlicer(TetSlicer&&) noexcept = default;
+TetSlicer& TetSlicer::operator=(TetSlicer&&) noexcept = default;
+
+TetSection TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane) {
+  return slice(mesh, plane, identity4());
 }
 
-TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+TetSection TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane,
+                            const AffineTransform& xf) {
   TetSection out;
-  slice_tets(mesh, plane, xf, out);
+  slice(mesh, plane, xf, out);
   return out;
 }
 
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
-  slice_tets(mesh, plane, identity4(), out);
+void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
+  slice(mesh, plane, identity4(), out);
 }
 
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
-  slice_tets(mesh, plane, identity4(), out);
+void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
+  slice(mesh, plane, identity4(), out);
 }
 
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
-                TetSection& out) {
-  Scratch& sc = scratch();
+void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                      TetSection& out) {
+  if (!scratch_) scratch_ = std::make_unique<Scratch>();  // (a moved-from slicer)
+  Scratch& sc = *scratch_;
   if (plane.dim() == 4) set_frame(out.frame, plane);
   const Prepared pr = prepare(mesh, plane, xf, out.frame, sc);
   if (!pr.any_on && (!pr.any_pos || !pr.any_neg)) {  // the plane misses the model
@@ -1031,13 +1050,14 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
     cut_general(mesh, pr, sc, out);
     return;
   }
-  // The soup's own cut (the triangles of the indexed one, corner by corner, up to rounding).
-  cut_generic_soup(mesh, sc.s.data(), sc.side.data(), pr.W, pr.offset, pr.NB, out);
+  // The soup's own cut (the triangles of the indexed one, corner by corner, the same bits).
+  cut_generic_soup(mesh, pr, sc, out);
 }
 
-void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
-                TetSliceMesh& out) {
-  Scratch& sc = scratch();
+void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                      TetSliceMesh& out) {
+  if (!scratch_) scratch_ = std::make_unique<Scratch>();  // (a moved-from slicer)
+  Scratch& sc = *scratch_;
   if (plane.dim() == 4) set_frame(out.frame, plane);
   const Prepared pr = prepare(mesh, plane, xf, out.frame, sc);
   if (!pr.any_on && (!pr.any_pos || !pr.any_neg)) {  // the plane misses the model
@@ -1056,6 +1076,43 @@ void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransf
   const bool ok = cut_indexed(mesh, indexed_copy(mesh, sc), pr, sc, out);
   assert(ok);
   static_cast<void>(ok);
+}
+
+namespace {
+
+// The slicer of the free functions: one per thread, so that they keep their scratch between
+// calls as a caller's TetSlicer does.
+TetSlicer& thread_slicer() {
+  thread_local TetSlicer slicer;
+  return slicer;
+}
+
+}  // namespace
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane) {
+  return thread_slicer().slice(mesh, plane);
+}
+
+TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf) {
+  return thread_slicer().slice(mesh, plane, xf);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out) {
+  thread_slicer().slice(mesh, plane, out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out) {
+  thread_slicer().slice(mesh, plane, out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSection& out) {
+  thread_slicer().slice(mesh, plane, xf, out);
+}
+
+void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
+                TetSliceMesh& out) {
+  thread_slicer().slice(mesh, plane, xf, out);
 }
 
 Section to_section(const TetSection& slice, const Complex& model) {

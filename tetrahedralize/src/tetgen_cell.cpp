@@ -183,4 +183,8 @@ TetgenCellResult tetgen_cell(const Complex& complex, std::uint32_t cell,
   return result;
 }
 
+TetMesh tetrahedralize(const Complex& complex, const TetOptions& options, TetStats* stats) {
+  return tetrahedralize_cells(complex, options, tetgen_cell, stats);
+}
+
 }  // namespace cw4d

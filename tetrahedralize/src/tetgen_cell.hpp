@@ -1,5 +1,6 @@
 #pragma once
-// TetGen (AGPL, fenced in this library) for one non-convex 3-cell of a 4D complex. Internal.
+// TetGen (AGPL, fenced in cw4d_tetrahedralize) for one non-convex 3-cell of a 4D complex.
+// Internal: the NonConvexCellMesher of tetrahedralize().
 #include <Eigen/Core>
 
 #include <array>
@@ -7,16 +8,11 @@
 #include <vector>
 
 #include "cw4d/complex/complex.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
 
 namespace cw4d {
 
-struct TetgenCellResult {
-  /// Tetrahedra as local ids: 0 .. vertices.size()-1 are the cell's vertices (in the order
-  /// passed), higher ids are steiner[id - vertices.size()]. Orientation not normalized.
-  std::vector<std::array<std::uint32_t, 4>> tets;
-  /// Interior Steiner points TetGen added, lifted back into R^4 (they lie in the cell).
-  std::vector<Eigen::Vector4d> steiner;
-};
+using TetgenCellResult = CellTets;
 
 /// Tetrahedralizes the polyhedron bounded by `boundary` (triangles of model vertex ids, all
 /// among `vertices`) in the cell's own frame (an orthonormal basis of the hyperplane with

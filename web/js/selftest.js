@@ -51,6 +51,31 @@ export const BUFFER_CASES = [
 
 export const BENCH = ['120-cell', 'omnitruncated 120-cell'];
 
+// The core's tetrahedra (tets()) against a native GPU buffer's, entry by entry: the counts,
+// the cells left out, the largest differences of corners and normals, the tetrahedra whose cell
+// ids differ, and the UVW components that differ.
+function sameTets(a, b) {
+  if (a.error) return { error: a.error };
+  const maxDiff = (x, y) => {
+    let d = 0;
+    for (let i = 0; i < Math.min(x.length, y.length); ++i) d = Math.max(d, Math.abs(x[i] - y[i]));
+    return d;
+  };
+  let cells = 0;
+  for (let t = 0; t < Math.min(a.count, b.count); ++t) cells += a.cells[t] !== b.cells[t] ? 1 : 0;
+  // UVW components equal, or mirrored (u against 1 - u: a cell box frame turned the other way),
+  // or neither.
+  let mirrored = 0, uvwOther = 0;
+  for (let i = 0; i < Math.min(a.uvw.length, b.uvw.length); ++i) {
+    if (Math.abs(a.uvw[i] - b.uvw[i]) <= 1e-6) continue;
+    if (Math.abs(a.uvw[i] + b.uvw[i] - 1) <= 1e-6) ++mirrored;
+    else ++uvwOther;
+  }
+  return { count: a.count, nativeCount: b.count, skippedCells: a.skippedCells,
+    corners: maxDiff(a.corners, b.corners), normals: maxDiff(a.normals, b.normals), cells,
+    uvwMirrored: mirrored, uvwOther };
+}
+
 async function load(core, c) {
   const m = new core.Model();
   let err;
@@ -112,7 +137,7 @@ export async function runSelftest(core, canvas, buffers = null) {
     const gpu = r.coverage(target);
     const q = iou(cpu, gpu);
     into.push({ spec: c.spec, tets: t.count, skippedCells: t.skippedCells, iou: q.iou,
-      cpuPixels: q.a, gpuPixels: q.b });
+      cpuPixels: q.a, gpuPixels: q.b, same: t.same ?? null });
     m.delete();
   };
   for (const c of GPU_CASES) await compare(c, (m) => m.tets(), out.gpu);
@@ -128,7 +153,9 @@ export async function runSelftest(core, canvas, buffers = null) {
         const bytes = await (await get(header.buffer)).arrayBuffer();
         if (header.cells !== info.fvector[3])
           throw new Error(`${c.name}.json: ${header.cells} cells, the model has ${info.fvector[3]}`);
-        return tetsFromBuffer(header, bytes, core.cellPalette(header.cells));
+        const native = tetsFromBuffer(header, bytes, core.cellPalette(header.cells));
+        native.same = sameTets(m.tets(), native);
+        return native;
       }, out.buffers);
     }
   }

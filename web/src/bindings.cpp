@@ -31,6 +31,7 @@
 #include "cw4d/section/slicer.hpp"
 #include "cw4d/section/triangulate.hpp"
 #include "cw4d/section/uvw.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
 
 namespace cw4d::web {
 
@@ -385,114 +386,51 @@ class WebModel {
     }
   }
 
-  /// Tetrahedra of the convex cells (each coned from its vertex centroid over the fan
-  /// triangles of its faces), in model space, for the GPU path: per tetrahedron four corners
-  /// (4 x 4 floats), their UVW (4 x 3, the cell's texture map of section/uvw.hpp), the cell's
-  /// outward unit normal (4) and the cell id. Non-convex cells are counted in skippedCells.
+  /// Tetrahedra of the convex cells (tetrahedralize_cells of cw4d_tetra: the mesh `cw4d
+  /// tetrahedralize` writes, without TetGen), in model space, for the GPU path: per tetrahedron
+  /// four corners (4 x 4 floats), their UVW (4 x 3, the cell's texture map of section/uvw.hpp),
+  /// the cell's outward unit normal (4), the cell id and its colour. Non-convex cells are
+  /// counted in skippedCells.
   val tets() const {
     try {
       if (!model_) return error_object("no model loaded");
       if (model_->ambient_dim() != 4 || model_->top_rank() < 3)
         return error_object("the GPU path needs a 4D model with cells");
       const Complex& m = *model_;
-      const auto maps = facet_texture_maps(m);
-      const Eigen::MatrixXd& normals = m.facet_normals();
-      std::vector<float> corners, uvw, cell_normal, cell_id, colour;
-      std::size_t skipped = 0;
+      TetStats stats;
+      const TetMesh mesh = tetrahedralize_cells(m, TetOptions{}, NonConvexCellMesher{}, &stats);
+      const std::size_t T = mesh.size();
+      std::vector<float> corners(16 * T), uvw(12 * T), cell_normal(4 * T), cell_id(T),
+          colour(3 * T);
       const auto& colours = m.colors(3);
-      for (std::uint32_t c = 0; c < m.count(3); ++c) {
-        const std::vector<std::uint32_t> verts = m.vertices_of(3, c);
-        Eigen::Vector4d centre = Eigen::Vector4d::Zero();
-        for (auto v : verts) centre += m.position(v);
-        centre /= static_cast<double>(verts.size());
-        std::vector<std::array<std::uint32_t, 3>> triangles;
-        bool convex = true;
-        const auto faces = m.boundary(3).ids(c);
-        const auto signs = m.boundary(3).signs(c);
-        const Eigen::Vector4d n = normals.col(c);
-        const double scale = max_radius(m);
-        for (std::size_t k = 0; k < faces.size() && convex; ++k) {
-          std::vector<std::uint32_t> cyc = m.face_cycle(faces[k]);
-          if (signs[k] < 0) std::reverse(cyc.begin(), cyc.end());
-          // The face's plane inside the cell's hyperplane has the normal cross(n, e1, e2), e1
-          // and e2 spanning the face; the cell is convex when every face is a supporting plane
-          // (all cell vertices on one side).
-          Eigen::MatrixXd u(4, 3);
-          u.col(0) = n;
-          const Eigen::Vector4d p0 = m.position(cyc[0]);
-          Eigen::Vector4d e1 = Eigen::Vector4d::Zero(), e2 = Eigen::Vector4d::Zero();
-          // e1, e2: the fan triangle of largest area (a well-conditioned span).
-          double best = 0;
-          for (std::size_t i = 1; i + 1 < cyc.size(); ++i) {
-            const Eigen::Vector4d a = m.position(cyc[i]) - p0, b = m.position(cyc[i + 1]) - p0;
-            const double area2 = a.squaredNorm() * b.squaredNorm() - a.dot(b) * a.dot(b);
-            if (area2 > best) best = area2, e1 = a, e2 = b;
-          }
-          if (!(best > 0)) {
-            convex = false;
-            break;
-          }
-          u.col(1) = e1;
-          u.col(2) = e2;
-          Eigen::VectorXd fn = generalized_cross(u);
-          const double len = fn.norm();
-          if (!(len > 0)) {
-            convex = false;
-            break;
-          }
-          fn /= len;
-          const double tol = 1e-9 * scale;
-          double lo = 0, hi = 0;
-          for (auto v : verts) {
-            const double s = fn.dot(m.position(v) - p0);
-            lo = std::min(lo, s), hi = std::max(hi, s);
-          }
-          if (lo < -tol && hi > tol) convex = false;
-          // The face itself must be convex for its fan: every turn of its cycle the same way
-          // round fn inside the cell's hyperplane.
-          double turn_lo = 0, turn_hi = 0;
-          for (std::size_t i = 0; i < cyc.size(); ++i) {
-            Eigen::MatrixXd w(4, 3);
-            w.col(0) = n;
-            w.col(1) = m.position(cyc[(i + 1) % cyc.size()]) - m.position(cyc[i]);
-            w.col(2) =
-                m.position(cyc[(i + 2) % cyc.size()]) - m.position(cyc[(i + 1) % cyc.size()]);
-            const double turn = generalized_cross(w).dot(fn);
-            turn_lo = std::min(turn_lo, turn), turn_hi = std::max(turn_hi, turn);
-          }
-          if (turn_lo < -tol * scale && turn_hi > tol * scale) convex = false;
-          if (!convex) break;
-          for (std::size_t i = 1; i + 1 < cyc.size(); ++i)
-            triangles.push_back({cyc[0], cyc[i], cyc[i + 1]});
+      for (std::size_t t = 0; t < T; ++t) {
+        const std::uint32_t c = mesh.tet_cell[t];
+        for (std::size_t k = 0; k < 4; ++k) {
+          const auto v = static_cast<Eigen::Index>(mesh.tets[t][k]);
+          for (Eigen::Index j = 0; j < 4; ++j)
+            corners[16 * t + 4 * k + static_cast<std::size_t>(j)] =
+                static_cast<float>(mesh.positions(j, v));
+          for (Eigen::Index j = 0; j < 3; ++j)
+            uvw[12 * t + 3 * k + static_cast<std::size_t>(j)] =
+                static_cast<float>(mesh.corner_uvw(j, static_cast<Eigen::Index>(4 * t + k)));
         }
-        if (!convex) {
-          ++skipped;
-          continue;
-        }
+        for (Eigen::Index j = 0; j < 4; ++j)
+          cell_normal[4 * t + static_cast<std::size_t>(j)] =
+              static_cast<float>(mesh.cell_normals(j, c));
+        cell_id[t] = static_cast<float>(c);
         const std::array<float, 3> rgb =
             colours.empty() ? palette(c)
                             : std::array<float, 3>{colours[c].r, colours[c].g, colours[c].b};
-        const auto push_corner = [&](const Eigen::Vector4d& p) {
-          for (int j = 0; j < 4; ++j) corners.push_back(static_cast<float>(p[j]));
-          const Eigen::VectorXd t = maps[c](p);
-          for (int j = 0; j < 3; ++j) uvw.push_back(static_cast<float>(t[j]));
-        };
-        for (const auto& tri : triangles) {
-          push_corner(centre);
-          for (auto v : tri) push_corner(m.position(v));
-          for (int j = 0; j < 4; ++j) cell_normal.push_back(static_cast<float>(n[j]));
-          cell_id.push_back(static_cast<float>(c));
-          for (int j = 0; j < 3; ++j) colour.push_back(rgb[static_cast<std::size_t>(j)]);
-        }
+        for (std::size_t j = 0; j < 3; ++j) colour[3 * t + j] = rgb[j];
       }
       val out = val::object();
-      out.set("count", static_cast<double>(cell_id.size()));
+      out.set("count", static_cast<double>(T));
       out.set("corners", copy_array(corners));
       out.set("uvw", copy_array(uvw));
       out.set("normals", copy_array(cell_normal));
       out.set("cells", copy_array(cell_id));
       out.set("colours", copy_array(colour));
-      out.set("skippedCells", static_cast<double>(skipped));
+      out.set("skippedCells", static_cast<double>(stats.skipped_cells));
       return out;
     } catch (const std::exception& e) {
       return error_object(e.what());

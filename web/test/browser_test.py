@@ -9,7 +9,8 @@ native cw4d command line:
   * a sweep's layers equal the native slices at the same offsets;
   * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97), both with
     the tetrahedra the WebAssembly core makes and with the GPU buffers (.json + .bin) of the
-    native `cw4d tetrahedralize`, which this test writes and serves;
+    native `cw4d tetrahedralize`, which this test writes and serves; the core's tetrahedra
+    (cw4d_tetra in WebAssembly) are those buffers' tetrahedra, entry by entry;
   * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
   * bad input gives one-line errors;
   * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
@@ -93,6 +94,14 @@ def chromium_command(chromium, profile, url):
 
 # The native GPU buffers the page's BUFFER_CASES read (web/js/selftest.js).
 BUFFER_MODELS = {"120-cell": "120-cell", "tesseract": "tesseract", "tiger": "tiger:2,2,0.6,12"}
+# Those whose UVW must match the core's exactly (coordinates without libm functions).
+UVW_EXACT = {"120-cell", "tesseract"}
+
+
+def uvw_note(same):
+    differ = same.get("uvwMirrored", 0) + same.get("uvwOther", 0)
+    return f", {differ} UVW components differ ({same.get('uvwMirrored', 0)} mirrored)" \
+        if differ else ""
 
 
 def run_page(args, generated):
@@ -276,6 +285,24 @@ def main():
         if g["cpuPixels"] < 1000 or not g["iou"] >= 0.97:
             fail(f"native GPU buffer of {g['spec']} ({g['tets']} tetrahedra): IoU {g['iou']:.4f}, "
                  f"CPU pixels {g['cpuPixels']}", fatal=False)
+        # The WebAssembly core's tetrahedra (cw4d_tetra) are the native CLI's, entry by entry:
+        # counts, cells, corners and normals (float32 of the same doubles, to 1e-6). UVW must
+        # agree too on the models whose coordinates need no libm function (UVW_EXACT); on the
+        # others (the tiger's come from sin and cos, whose last bits differ between
+        # emscripten's libm and glibc's) the components that differ are reported, not failed.
+        same = g.get("same")
+        if not same or "error" in same:
+            fail(f"no comparison of the core's tetrahedra with the native buffer of {g['spec']}: "
+                 f"{same}", fatal=False)
+            continue
+        if same["skippedCells"] != 0 or same["count"] != same["nativeCount"] or same["cells"] != 0:
+            fail(f"the core's tetrahedra of {g['spec']} are not the native CLI's: {same}",
+                 fatal=False)
+        elif max(same["corners"], same["normals"]) > 1e-6 or \
+                (g["spec"] in UVW_EXACT and same["uvwMirrored"] + same["uvwOther"] != 0):
+            fail(f"the core's tetrahedra of {g['spec']} differ from the native CLI's: {same}",
+                 fatal=False)
+        checked += 1
 
     listed = subprocess.run([args.cw4d, "list"], capture_output=True, text=True, check=True)
     native_specs = {re.split(r"\s{2,}", l.strip())[0] for l in listed.stdout.splitlines() if l.strip()}
@@ -303,6 +330,9 @@ def main():
           ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["gpu"]) +
           "; native GPU buffers " +
           ", ".join(f"{g['spec']} {g['iou']:.4f}" for g in page["buffers"]) +
+          "; the core's tetrahedra = the native buffers' (" +
+          ", ".join(f"{g['spec']} {g['tets']}" + uvw_note(g.get("same") or {})
+                    for g in page["buffers"]) + ")" +
           f"; unavailable in WASM: {', '.join(unavailable)}; page ran {page_seconds:.1f} s")
     for b in bench:
         print(f"browser_test: slice hot path {b['model']}: WASM {b['wasm_us']:.1f} us, native "

@@ -139,17 +139,45 @@ struct TetOptions {
 struct TetStats {
   std::size_t coned_cells = 0;
   std::size_t cube_split_cells = 0;
-  std::size_t tetgen_cells = 0;
+  std::size_t tetgen_cells = 0;  ///< cells given to the non-convex cell mesher
   std::size_t steiner_points = 0;
+  /// Non-convex cells left out (tetrahedralize_cells without a mesher): no tetrahedra.
+  std::size_t skipped_cells = 0;
 };
+
+/// The tetrahedra of one non-convex cell, as a NonConvexCellMesher returns them: local ids,
+/// 0 .. vertices.size() - 1 the cell's vertices in the order passed, higher ids
+/// steiner[id - vertices.size()] (interior points in R^4, in the cell). Any orientation.
+struct CellTets {
+  std::vector<std::array<std::uint32_t, 4>> tets;
+  std::vector<Eigen::Vector4d> steiner;
+};
+
+/// Tetrahedralizes the polyhedron of cell `cell` bounded by `boundary` (outward triangles of
+/// model vertex ids, all among the sorted `vertices`), in the hyperplane with outward normal
+/// `normal`, keeping the boundary triangles (so the mesh stays conforming).
+/// \throw MeshingError naming the cell when it cannot.
+using NonConvexCellMesher = std::function<CellTets(
+    const Complex& complex, std::uint32_t cell, const std::vector<std::uint32_t>& vertices,
+    const std::vector<std::array<std::uint32_t, 3>>& boundary, const Eigen::Vector4d& normal)>;
 
 /// Tetrahedralizes every 3-cell of a closed 4D complex (ambient dimension 4, with facet
 /// normals). The union of a cell's tetrahedra is the cell; shared faces get the same triangles.
+/// Non-convex cells go to TetGen: this function is defined in the fenced library
+/// cw4d_tetrahedralize (cw4d::tetrahedralize, AGPL through TetGen), not in cw4d_tetra.
 /// \throw InputError when the complex is not 4D, has no 3-cells or no facet normals.
 /// \throw MeshingError when a non-convex cell cannot be tetrahedralized (TetGen's failure,
 ///        never a crash or an exit).
 TetMesh tetrahedralize(const Complex& complex, const TetOptions& options = {},
                        TetStats* stats = nullptr);
+
+/// tetrahedralize() with the mesher of non-convex cells given by the caller (cw4d_tetra, Eigen
+/// only, also in WebAssembly). Convex cells are coned and cubes split exactly as tetrahedralize
+/// does; a non-convex cell goes to `nonconvex` or, when it is empty, is left out (no
+/// tetrahedra; counted in stats->skipped_cells).
+/// \throw InputError as tetrahedralize; whatever `nonconvex` throws.
+TetMesh tetrahedralize_cells(const Complex& complex, const TetOptions& options,
+                             const NonConvexCellMesher& nonconvex, TetStats* stats = nullptr);
 
 /// Fills mesh.edges and mesh.tet_edges from mesh.tets (each corner pair of each tetrahedron gets
 /// the id of its edge; ids in order of first appearance), and the blocks from mesh.tets and

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "cw4d/complex/transform.hpp"
@@ -53,8 +54,9 @@ struct TetSection {
 /// per mesh vertex on it), triangles as vertex ids. The crossing of an edge is computed once and
 /// shared by every tetrahedron around that edge, so neighbouring triangles are welded. Flat
 /// arrays whose storage is kept between slices. The triangles are TetSection's, in the same
-/// order with the same corner order, sources, normals and uvw (equal up to rounding: the soup
-/// computes each crossing per tetrahedron); to_soup gives the soup of this mesh exactly. Vertex
+/// order with the same corner order, sources, normals and uvw (the same bits: the soup computes
+/// each crossing per tetrahedron by the same formulas); to_soup gives the soup of this mesh
+/// exactly. Vertex
 /// order is deterministic but otherwise unspecified.
 struct TetSliceMesh {
   HyperplaneFrame frame;
@@ -106,7 +108,12 @@ struct TetCutCase {
 };
 extern const std::array<TetCutCase, 16> kTetCutTable;
 
-/// Cuts the mesh, placed by x_world = model_to_world(x_model), with a world-space hyperplane.
+/// The tetrahedral slicer: the cut of a TetMesh by a hyperplane, with every scratch buffer it
+/// needs kept from one slice to the next. The caller owns it (one per thread: a TetSlicer is not
+/// shared between threads) and the output buffers; once both have grown to a model's largest
+/// slice, slicing into a TetSliceMesh or a TetSection allocates nothing when no mesh vertex lies
+/// on the plane (planes through vertices take the general loop, which allocates).
+///
 /// Sides are decided by classify_side with the tolerance cw4d::section uses; on-plane vertices
 /// count as positive, and when that leaves nothing, as negative (a plane containing a facet
 /// returns that facet), exactly like cw4d::section. Degenerate triangles (two corners from the
@@ -115,23 +122,51 @@ extern const std::array<TetCutCase, 16> kTetCutTable;
 /// tetrahedralize leaves them; they are not checked per slice (a pass over the ids would add
 /// 5-7 % to a 120- or 600-cell slice). Its edge index is checked (below).
 /// \throw InputError when the plane or transform is not 4D.
+class TetSlicer {
+ public:
+  TetSlicer();
+  ~TetSlicer();
+  TetSlicer(TetSlicer&&) noexcept;
+  TetSlicer& operator=(TetSlicer&&) noexcept;
+  TetSlicer(const TetSlicer&) = delete;
+  TetSlicer& operator=(const TetSlicer&) = delete;
+
+  /// The indexed slice (the fast form: each crossing computed once per slice, from the mesh's
+  /// edge ids, and shared by every tetrahedron around the edge; polygons turned by the sign
+  /// table's combinatorial orientation), written into `out`, whose storage is reused. Planes
+  /// through mesh vertices take the general loop, welded. Precondition: the mesh's edge and
+  /// block index describes its tets (as tetrahedralize leaves it; call index_tet_edges after
+  /// editing `tets` or `tet_cell` in place, or clear `tet_edges` to have the slicer index a
+  /// copy). An index with ids out of range is noticed and a copy indexed instead; one whose ids
+  /// are in range but name other corners (TetMesh::has_edge_index false) gives a wrong section.
+  void slice(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
+             TetSliceMesh& out);
+  void slice(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
+  /// The triangle soup, each tetrahedron cut on its own (its crossings the same bits as the
+  /// indexed slice's), written into `out`, whose storage is reused.
+  void slice(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
+             TetSection& out);
+  void slice(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
+  /// The soup in a new TetSection (its arrays allocated for this slice).
+  TetSection slice(const TetMesh& mesh, const Hyperplane& plane,
+                   const AffineTransform& model_to_world);
+  TetSection slice(const TetMesh& mesh, const Hyperplane& plane);
+
+  struct Scratch;  ///< (internal)
+
+ private:
+  std::unique_ptr<Scratch> scratch_;
+};
+#define CW4D_TET_SLICER 1
+
+/// The slices of TetSlicer through one TetSlicer per thread (kept between calls).
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane,
                       const AffineTransform& model_to_world);
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane);
-/// The same slice written into `out`, whose storage is reused (per-thread scratch inside: no
-/// allocation per tetrahedron or per slice once the buffers have grown).
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSection& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
 #define CW4D_TET_SLICE_INTO 1
-/// The same slice as an indexed mesh (the fast form: each crossing computed once, polygons turned
-/// by the sign table's combinatorial orientation, no per-corner copies of positions and normals),
-/// written into `out`, whose storage is reused (no allocation once it has grown). Planes through
-/// mesh vertices take the general loop above, welded. Precondition: the mesh's edge and block
-/// index describes its tets (as tetrahedralize leaves it; call index_tet_edges after editing
-/// `tets` or `tet_cell` in place, or clear `tet_edges` to have the slicer index a copy). An index
-/// with ids out of range is noticed and a copy indexed instead; one whose ids are in range but
-/// name other corners (TetMesh::has_edge_index false) gives a wrong section.
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSliceMesh& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);

@@ -1,0 +1,282 @@
+// The caller-owned TetSlicer: no allocation once its buffers have grown (counted through this
+// binary's replacement of the global operator new), the edge-shared crossings of the indexed
+// slice bit for bit the per-tetrahedron crossings of the soup, the returning and free forms
+// equal to a slicer's, and the licence fence's two entry points: tetrahedralize_cells (Eigen
+// only, no mesher for non-convex cells) against tetrahedralize (TetGen for those cells).
+#include <catch2/catch.hpp>
+
+#include <Eigen/Dense>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <new>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cw4d/complex/builtins.hpp"
+#include "cw4d/complex/transform.hpp"
+#include "cw4d/section/hyperplane.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
+#include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "cw4d/tetrahedralize/tet_slice.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+std::atomic<std::size_t> g_allocations{0};
+}  // namespace
+
+// Every allocation of this program through operator new is counted (std::vector and the other
+// standard containers allocate through it; Eigen's dynamic matrices use malloc and are checked
+// by their data pointers below).
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
+  return ::operator new(n);
+}
+void* operator new(std::size_t n, std::align_val_t a) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  const auto al = static_cast<std::size_t>(a);
+  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return ::operator new(n, a);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+
+using namespace cw4d;
+
+namespace {
+
+// Generic planes through the model (seeded): a random unit normal, the offset strictly inside
+// the model's height range along it.
+std::vector<Hyperplane> generic_planes(const TetMesh& mesh, std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  std::vector<Hyperplane> planes;
+  while (planes.size() < count) {
+    Eigen::Vector4d n;
+    for (int i = 0; i < 4; ++i) n(i) = g(rng);
+    n.normalize();
+    const Eigen::VectorXd h = n.transpose() * mesh.positions;
+    const double lo = h.minCoeff(), hi = h.maxCoeff();
+    planes.push_back(Hyperplane::from(Eigen::VectorXd(n), lo + u(rng) * (hi - lo)));
+  }
+  return planes;
+}
+
+bool same_bits(const double* a, const double* b, std::size_t n) {
+  return std::memcmp(a, b, n * sizeof(double)) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("tet slicer: no allocation once the buffers have grown", "[tet][slicer]") {
+  for (const char* spec : {"tesseract", "120-cell", "600-cell", "duoprism:32,32"}) {
+    INFO(spec);
+    const TetMesh mesh = tetrahedralize(load_model(spec));
+    const auto planes = generic_planes(mesh, 64, 20240401u);
+    const AffineTransform xf = AffineTransform::rotation(4, 0, 3, 0.3);
+    TetSlicer slicer;
+    TetSliceMesh out;
+    TetSection soup;
+    // First round: every buffer grows to its largest size over these planes (which the
+    // counter sees: it counts this program's allocations).
+    const std::size_t at_start = g_allocations.load();
+    std::size_t triangles = 0;
+    for (const auto& p : planes) {
+      slicer.slice(mesh, p, out);
+      triangles += out.triangle_count();
+      slicer.slice(mesh, p, xf, out);
+      slicer.slice(mesh, p, soup);
+    }
+    REQUIRE(triangles > 0);
+    CHECK(g_allocations.load() > at_start);
+    const void* data[] = {out.positions.data(),    out.triangles.data(), out.normals.data(),
+                          out.uvw.data(),          out.tet.data(),       out.cell.data(),
+                          out.vertex_source.data()};
+    // Second round: nothing allocated through operator new, no array moved.
+    const std::size_t before = g_allocations.load();
+    std::size_t again = 0;
+    for (const auto& p : planes) {
+      slicer.slice(mesh, p, out);
+      again += out.triangle_count();
+      slicer.slice(mesh, p, xf, out);
+    }
+    const std::size_t allocated = g_allocations.load() - before;
+    CHECK(allocated == 0);
+    CHECK(again == triangles);
+    const void* after[] = {out.positions.data(),    out.triangles.data(), out.normals.data(),
+                           out.uvw.data(),          out.tet.data(),       out.cell.data(),
+                           out.vertex_source.data()};
+    for (std::size_t i = 0; i < 7; ++i) CHECK(after[i] == data[i]);
+    // The soup: its vectors keep their storage too (its matrices are sized to each slice).
+    const std::size_t before_soup = g_allocations.load();
+    for (const auto& p : planes) slicer.slice(mesh, p, soup);
+    CHECK(g_allocations.load() - before_soup == 0);
+  }
+}
+
+TEST_CASE("tet slicer: edge-shared crossings are the per-tetrahedron crossings, bit for bit",
+          "[tet][slicer]") {
+  for (const char* spec :
+       {"5-cell", "tesseract", "24-cell", "120-cell", "600-cell", "duoprism:5,7", "glome:1,3"}) {
+    INFO(spec);
+    const Complex model = load_model(spec, default_catalogue());
+    const TetMesh mesh = tetrahedralize(model);
+    // A reflection (det < 0: the indexed cut turns every polygon), rotations and a shift.
+    const AffineTransform xf =
+        AffineTransform::translation(Eigen::Vector4d(0.01, -0.02, 0.03, 0.0)) *
+        AffineTransform::rotation(4, 1, 2, 0.7) * AffineTransform::rotation(4, 0, 3, -0.4) *
+        AffineTransform::scale(Eigen::Vector4d(1.0, -1.0, 1.0, 1.0));
+    TetSlicer slicer;
+    TetSliceMesh indexed;
+    TetSection soup;
+    std::size_t checked = 0;
+    for (const auto& p : generic_planes(mesh, 24, 7u)) {
+      slicer.slice(mesh, p, xf, indexed);
+      slicer.slice(mesh, p, xf, soup);
+      REQUIRE(soup.triangle_count() == indexed.triangle_count());
+      // Each crossing edge gives one vertex: no two vertices share an edge.
+      std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> seen;
+      for (std::uint32_t v = 0; v < indexed.vertex_count(); ++v)
+        CHECK(
+            seen.emplace(std::make_pair(indexed.vertex_source[v].a, indexed.vertex_source[v].b), v)
+                .second);
+      for (std::size_t i = 0; i < soup.triangle_count(); ++i) {
+        REQUIRE(soup.tet[i] == indexed.tet[i]);
+        REQUIRE(soup.cell[i] == indexed.cell[i]);
+        CHECK(same_bits(&soup.normals(0, static_cast<Eigen::Index>(3 * i)), &indexed.normals[3 * i],
+                        3));
+        // The soup's corner cycle is the indexed one's, starting anywhere.
+        std::uint32_t v[3];
+        for (std::size_t k = 0; k < 3; ++k) v[k] = indexed.triangles[3 * i + k];
+        for (std::size_t k = 0; k < 3; ++k) {
+          const std::size_t c = 3 * i + k;
+          const TetCutPoint& cp = soup.corners[c];
+          const auto it = seen.find({cp.a, cp.b});
+          REQUIRE(it != seen.end());
+          const std::uint32_t vid = it->second;
+          CHECK((vid == v[0] || vid == v[1] || vid == v[2]));
+          const double* sp = &soup.positions(0, static_cast<Eigen::Index>(c));
+          CHECK(same_bits(sp, &indexed.positions[3 * std::size_t{vid}], 3));
+          CHECK(same_bits(&cp.t, &indexed.vertex_source[vid].t, 1));
+          // uvw of the corner (per tetrahedron, along its own edge): the indexed corner of the
+          // same vertex in this triangle.
+          for (std::size_t j = 0; j < 3; ++j)
+            if (v[j] == vid)
+              CHECK(same_bits(&soup.uvw(0, static_cast<Eigen::Index>(c)),
+                              &indexed.uvw[9 * i + 3 * j], 3));
+          ++checked;
+        }
+      }
+    }
+    CHECK(checked > 0);
+  }
+}
+
+TEST_CASE("tet slicer: the returning and free forms are a slicer's slice", "[tet][slicer]") {
+  const TetMesh mesh = tetrahedralize(load_model("24-cell"));
+  TetSlicer slicer;
+  TetSection into;
+  TetSliceMesh indexed, free_indexed;
+  for (const auto& p : generic_planes(mesh, 16, 3u)) {
+    const TetSection a = slicer.slice(mesh, p);
+    const TetSection b = slice_tets(mesh, p);
+    slicer.slice(mesh, p, into);
+    REQUIRE(a.triangle_count() > 0);
+    CHECK(a.positions == into.positions);
+    CHECK(b.positions == into.positions);
+    CHECK(a.uvw == into.uvw);
+    CHECK(a.tet == into.tet);
+    slicer.slice(mesh, p, indexed);
+    slice_tets(mesh, p, free_indexed);
+    CHECK(indexed.positions == free_indexed.positions);
+    CHECK(indexed.triangles == free_indexed.triangles);
+  }
+  // A moved-from slicer still slices.
+  TetSlicer moved = std::move(slicer);
+  TetSlicer& reused = slicer;
+  const auto p = generic_planes(mesh, 1, 5u).front();
+  CHECK(reused.slice(mesh, p).positions == moved.slice(mesh, p).positions);
+}
+
+TEST_CASE("tetrahedralize_cells: convex cells as tetrahedralize, non-convex ones left out",
+          "[tet][fence]") {
+  for (const char* spec : {"tesseract", "120-cell", "duoprism:5,7", "glome:1,3"}) {
+    INFO(spec);
+    const Complex c = load_model(spec, default_catalogue());
+    TetStats with, without;
+    const TetMesh a = tetrahedralize(c, {}, &with);
+    const TetMesh b = tetrahedralize_cells(c, {}, {}, &without);
+    CHECK(with.tetgen_cells == 0);
+    CHECK(without.skipped_cells == 0);
+    CHECK(a.tets == b.tets);
+    CHECK(a.tet_cell == b.tet_cell);
+    CHECK(a.positions == b.positions);
+    CHECK(a.corner_uvw == b.corner_uvw);
+    CHECK(a.tet_edges == b.tet_edges);
+  }
+  // An L-shaped prism extruded: two non-convex cells, meshed by TetGen in tetrahedralize, left
+  // out by tetrahedralize_cells without a mesher; every other cell's tetrahedra are the same.
+  const test::TempDir dir("tet_slicer");
+  dir.write("l.obj",
+            "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\n"
+            "v 0 0 1\nv 2 0 1\nv 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\n"
+            "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n"
+            "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n");
+  const Complex l = load_model("extrude:" + (dir / "l.obj").string(), default_catalogue());
+  TetStats with, without;
+  const TetMesh a = tetrahedralize(l, {}, &with);
+  const TetMesh b = tetrahedralize_cells(l, {}, {}, &without);
+  CHECK(with.tetgen_cells > 0);
+  CHECK(without.skipped_cells == with.tetgen_cells);
+  std::vector<std::array<std::uint32_t, 4>> kept;
+  std::vector<char> convex(l.count(3), 0);
+  for (const std::uint32_t cell : b.tet_cell) convex[cell] = 1;
+  for (std::size_t t = 0; t < a.size(); ++t)
+    if (convex[a.tet_cell[t]]) kept.push_back(a.tets[t]);
+  CHECK(kept == b.tets);
+  CHECK(b.cell_count() == l.count(3));
+  // A mesher given by the caller is used for exactly those cells.
+  std::size_t calls = 0;
+  const NonConvexCellMesher refuse =
+      [&](const Complex&, std::uint32_t cell, const std::vector<std::uint32_t>&,
+          const std::vector<std::array<std::uint32_t, 3>>&, const Eigen::Vector4d&) -> CellTets {
+    ++calls;
+    throw MeshingError(cell, 0, "refused");
+  };
+  CHECK_THROWS_AS(tetrahedralize_cells(l, {}, refuse), MeshingError);
+  CHECK(calls == 1);
+}
