@@ -1,6 +1,6 @@
 """Type stubs of the cw4d extension module (import cw4d, not cw4d._cw4d)."""
 
-from typing import Iterable, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Iterable, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -150,6 +150,12 @@ class Section:
     def _repr_svg_(self) -> Optional[str]: ...
     def plot(self, ax: object = None, *, facecolor: object = None, edgecolor: object = "k",
              alpha: float = 0.85, linewidth: float = 0.5) -> object: ...
+    def to_trimesh(self) -> Any:
+        """trimesh.Trimesh of the triangles; needs trimesh (ImportError naming it if missing)."""
+    def to_pyvista(self) -> Any:
+        """pyvista.PolyData of the polygons; needs pyvista."""
+    def to_meshio(self, triangulate: bool = True) -> Any:
+        """meshio.Mesh (triangles, or one block per polygon size); needs meshio."""
 
 class SliceModel:
     def __init__(self, model: Complex, clustered: bool = True) -> None: ...
