@@ -8,6 +8,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <set>
 
 #include "cli.hpp"
 #include "cw4d/complex/off_io.hpp"
@@ -87,7 +88,9 @@ int cw4d::cli::run(int argc, char** argv) {
 
   cw4d::OffReadOptions off_options;
   off_options.strict = strict;
-  off_options.warn = [](const std::string& warning) {
+  // Once per file and problem, though a command may read a file more than once.
+  off_options.warn = [printed = std::set<std::string>()](const std::string& warning) mutable {
+    if (!printed.insert(warning).second) return;
     std::cerr << "cw4d: warning: " << cw4d::cli::one_line(cw4d::cli::bounded_message(warning))
               << '\n';
   };

@@ -191,15 +191,15 @@ std::optional<std::vector<std::uint64_t>> infer_counts(LineReader reader, const 
     suffix_k[i] = suffix_k[i + 1] + shape[i].k;
     suffix_min_k[i] = std::min(suffix_min_k[i + 1], shape[i].k);
   }
+  // The header's vertex count where it fits, else the shortest vertex block: lines that read
+  // both ways (in 4OFF "3 0 1 2" is a triangle or a point) are faces after it.
   std::vector<std::size_t> candidates;
   if (header[0] >= lo && header[0] <= p) candidates.push_back(header[0]);
-  // Then from the shortest vertex block (vertex lines rarely read as lists) upwards.
-  for (std::size_t v = lo; v <= p && candidates.size() < 16; ++v)
-    if (v != header[0]) candidates.push_back(v);
+  if (candidates.empty() || candidates.front() != lo) candidates.push_back(lo);
   for (const std::size_t nv : candidates) {
     if (nv < static_cast<std::size_t>(dim) + 1 || nv >= n) continue;
     if (dim == 3) {
-      if (suffix_max[nv] < nv && suffix_min_k[nv] >= 3)
+      if (suffix_max[nv] + 1 == nv && suffix_min_k[nv] >= 3)
         return std::vector<std::uint64_t>{nv, n - nv, header[2]};
       continue;
     }
@@ -210,26 +210,27 @@ std::optional<std::vector<std::uint64_t>> infer_counts(LineReader reader, const 
       face_max = std::max(face_max, shape[nv + nf - 1].max_id);
       face_min_k = std::min(face_min_k, shape[nv + nf - 1].k);
       if (face_max >= nv || face_min_k < 3) break;
-      if (suffix_max[nv + nf] < nf && suffix_min_k[nv + nf] >= 2) fits.push_back(nf);
+      // The last vertex is used (a line that reads as a point but is no face's corner is not
+      // taken for a vertex), every cell's faces exist.
+      if (face_max + 1 == nv && suffix_max[nv + nf] < nf && suffix_min_k[nv + nf] >= 2)
+        fits.push_back(nf);
     }
     if (fits.empty()) continue;
     auto fits_nf = [&](std::uint64_t nf) {
       return std::find(fits.begin(), fits.end(), nf) != fits.end();
     };
     std::optional<std::size_t> nf;
-    if (fits_nf(header[1])) {
+    // A closed complex has every face in exactly two cells: the one such split wins, then the
+    // header's face count, then its cell count; nothing else is guessed.
+    std::vector<std::size_t> closed;
+    for (std::size_t f : fits)
+      if (suffix_k[nv + f] == 2 * f) closed.push_back(f);
+    if (closed.size() == 1) {
+      nf = closed.front();
+    } else if (fits_nf(header[1])) {
       nf = header[1];
     } else if (header[3] < n - nv && fits_nf(n - nv - header[3])) {
       nf = n - nv - header[3];
-    } else {
-      // A closed complex has every face in exactly two cells.
-      std::vector<std::size_t> closed;
-      for (std::size_t f : fits)
-        if (suffix_k[nv + f] == 2 * f) closed.push_back(f);
-      if (closed.size() == 1)
-        nf = closed.front();
-      else if (fits.size() == 1)
-        nf = fits.front();
     }
     if (nf) return std::vector<std::uint64_t>{nv, *nf, header[2], n - nv - *nf};
   }
