@@ -67,6 +67,7 @@ TEST_PACKAGES=(
   python3-pybind11
   python3-numpy
   python3-pytest
+  python3-meshio
   python3-scipy
   python3-matplotlib
   python3-mypy

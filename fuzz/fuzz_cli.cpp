@@ -147,7 +147,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fs::current_path(scratch);
   const int code = cw4d::cli::run(static_cast<int>(args.size()), argv.data());
   fs::current_path(home);
-  if (code < 0 || code > 5) {
+  if (code < 0 || code > 7 || code == 6) {
     std::fprintf(stderr, "fuzz_cli: exit code %d\n", code);
     std::abort();
   }

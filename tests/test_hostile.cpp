@@ -161,15 +161,19 @@ std::vector<HostileFile> hostile_files() {
       {"cut in the middle of the last line", ok.substr(0, ok.size() - 4), bad_input, 22,
        "cell 4 announces 4 entries but the line has 2"},
       {"three counts for 4OFF", five_cell_with(2, "5 10 10"), bad_input, 2, "expected 4 counts"},
+      // (read as the body stands, with a warning, without --strict: test_off_io, test_check)
       {"more faces announced than present", five_cell_with(2, "5 11 10 5"), bad_input, 2,
-       "counts announce 21 element lines but the file has only 20"},
-      {"fewer cells announced than present", five_cell_with(2, "5 10 10 4"), bad_input, 22,
-       "unexpected data after the last element"},
+       "header counts 5 11 10 5 disagree with the body, which holds 5 vertices, 10 faces, 5 "
+       "cells (refused: strict reading)"},
+      {"fewer cells announced than present", five_cell_with(2, "5 10 10 4"), bad_input, 2,
+       "disagree with the body"},
       {"negative count", five_cell_with(2, "-5 10 10 5"), bad_input, 2, "is not a non-negative"},
       // huge counts that would exhaust memory if they drove allocation
-      {"4e9 vertices", five_cell_with(2, "4000000000 10 10 5"), bad_input, 2, "counts announce"},
+      // (the body is a whole 5-cell: --strict refuses the counts; without it, it is read)
+      {"4e9 vertices", five_cell_with(2, "4000000000 10 10 5"), bad_input, 2,
+       "disagree with the body"},
       {"2^64-1 faces", five_cell_with(2, "5 18446744073709551615 10 5"), bad_input, 2,
-       "counts announce"},
+       "disagree with the body"},
       {"count beyond 64 bits", five_cell_with(2, "5 10 10 99999999999999999999999"), bad_input, 2,
        "is not a non-negative integer"},
       {"face of 4e9 vertices", five_cell_with(8, "4000000000 0 1 2"), bad_input, 8,
@@ -226,10 +230,10 @@ TEST_CASE("hostile model files: one message with file:line, the documented exit 
       dir.write("bad.4off", h.content);
       const auto before = listing(dir);
       for (const std::vector<std::string>& args :
-           {std::vector<std::string>{"slice", "bad.4off", "--normal", "0,0,0,1", "--offset", "0.1",
-                                     "-o", "out/section.obj"},
-            std::vector<std::string>{"convert", "bad.4off", "-o", "copy.4off"}}) {
-        INFO(args.front());
+           {std::vector<std::string>{"--strict", "slice", "bad.4off", "--normal", "0,0,0,1",
+                                     "--offset", "0.1", "-o", "out/section.obj"},
+            std::vector<std::string>{"--strict", "convert", "bad.4off", "-o", "copy.4off"}}) {
+        INFO(args[1]);
         const Result r = run(dir, args);
         CHECK(r.code == h.exit);
         check_one_printable_error_line(r);
@@ -238,8 +242,11 @@ TEST_CASE("hostile model files: one message with file:line, the documented exit 
         CHECK(r.out.empty());
         CHECK(listing(dir) == before);  // no output file, no directory, no temporary left
       }
-      // The library reports the same line.
+      // The library reports the same line (reading strictly, as the commands above).
       const std::string path = (dir / "bad.4off").string();
+      cw4d::OffReadOptions strict;
+      strict.strict = true;
+      const cw4d::ScopedOffReadOptions scoped(strict);
       if (h.exit == bad_input) {
         try {
           (void)cw4d::read_off_file(path);

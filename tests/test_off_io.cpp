@@ -188,8 +188,9 @@ std::vector<Malformed> malformed_catalogue() {
        "is not a non-negative integer"},
       {"truncated vertex list", join({"4OFF", "5 10 10 5", "0 0 0 0", "1 0 0 0"}), 2,
        "counts announce 20 element lines but the file has only 2"},
-      {"truncated cell list", s.substr(0, s.rfind("4 3 4 5 9")), 2,
-       "counts announce 20 element lines but the file has only 18"},
+      {"truncated vertex list with its faces",
+       join({"4OFF", "5 10 10 5", "0 0 0 0", "1 0 0 0", "0 1 0 0", "3 0 1 2"}), 2,
+       "counts announce 20 element lines but the file has only 4"},
       {"vertex with 3 coordinates", simplex_with(5, "0 1 0"), 5,
        "vertex 2 has 3 coordinates, expected 4"},
       {"vertex with 5 coordinates", simplex_with(3, "0 0 0 0 0"), 3,
@@ -227,7 +228,6 @@ std::vector<Malformed> malformed_catalogue() {
       {"color mixing scales", simplex_with(13, "3 0 3 4 0.5 128 0"), 13, "mixes"},
       {"color not a number", simplex_with(13, "3 0 3 4 red 0 0"), 13, "is not a number"},
       {"trailing garbage line", s + "garbage\n", 23, "unexpected data after the last element"},
-      {"trailing element line", s + "4 6 7 8 9\n", 23, "unexpected data after the last element"},
       {"4000000000 vertices in a 5-line file", "4OFF\n4000000000 1 0 1\n0 0 0 0\n3 0 0 0\n1 0\n", 2,
        "counts announce"},
       {"2^64-1 vertices", "4OFF\n18446744073709551615 1 3 1\n0 0 0 0\n3 0 1 2\n2 0 0\n", 2,
@@ -541,4 +541,115 @@ TEST_CASE("colors of a 3D OFF", "[off][color]") {
   CHECK(c.colors(2)[3] == Rgba{0.1f, 0.2f, 0.3f, 0.4f});
   const Complex d = from_text(to_text(c));
   CHECK(d.colors(2) == c.colors(2));
+}
+
+// ---------------------------------------------------------------------------------------------
+// (f) files as they are shared: counts that disagree with the body, colors, comments
+
+namespace {
+
+// Reads `text` with the given strictness, collecting the warnings.
+Complex read_quirky(const std::string& text, bool strict, std::vector<std::string>* warnings) {
+  OffReadOptions options;
+  options.strict = strict;
+  options.warn = [warnings](const std::string& w) { warnings->push_back(w); };
+  ScopedOffReadOptions scoped(options);
+  std::istringstream in(text);
+  return read_off(in, "quirky.4off");
+}
+
+}  // namespace
+
+TEST_CASE("header counts that disagree with the body: read as the body stands, one warning",
+          "[off][quirks]") {
+  const std::string s = join(simplex_lines());
+  const std::vector<std::size_t> simplex_f{5, 10, 10, 5};
+  struct Case {
+    std::string label, text;
+    std::vector<std::size_t> fvector;  // what the body holds
+  };
+  auto with_counts = [&](const std::string& counts) { return simplex_with(2, counts); };
+  const std::vector<Case> cases = {
+      {"too many vertices", with_counts("6 10 10 5"), simplex_f},
+      {"too few vertices", with_counts("4 10 10 5"), simplex_f},
+      {"too many faces", with_counts("5 12 10 5"), simplex_f},
+      {"too many cells", with_counts("5 10 10 7"), simplex_f},
+      {"too few cells", with_counts("5 10 10 3"), simplex_f},
+      {"all counts zero", with_counts("0 0 0 0"), simplex_f},
+      {"counts on the header line, wrong", "4OFF 9 9 9 9\n" + s.substr(s.find("0 0 0 0")),
+       simplex_f},
+      {"a cell more than announced", s + "4 6 7 8 9\n", {5, 10, 10, 6}},
+      {"cells missing", s.substr(0, s.rfind("4 3 4 5 9")), {5, 10, 10, 3}},
+      {"3D OFF with a face count too high",
+       "OFF\n4 9 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+       "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       {4, 6, 4}},
+  };
+  for (const auto& c : cases) {
+    DYNAMIC_SECTION(c.label) {
+      std::vector<std::string> warnings;
+      const Complex m = read_quirky(c.text, false, &warnings);
+      std::vector<std::size_t> f = m.fvector();
+      f.resize(c.fvector.size());
+      CHECK(f == c.fvector);
+      REQUIRE(warnings.size() == 1);
+      CHECK(contains(warnings[0], "disagree with the body"));
+      CHECK(warnings[0].rfind("quirky.4off:", 0) == 0);
+      // Strict reading refuses the same file with one line naming the counts.
+      warnings.clear();
+      try {
+        read_quirky(c.text, true, &warnings);
+        FAIL("strict reading accepted " << c.label);
+      } catch (const ParseError& e) {
+        CHECK(contains(e.message(), "disagree with the body"));
+        CHECK(contains(e.message(), "strict"));
+        CHECK(std::string(e.what()).find('\n') == std::string::npos);
+      }
+      CHECK(warnings.empty());
+    }
+  }
+  SECTION("the right counts give no warning") {
+    std::vector<std::string> warnings;
+    const Complex m = read_quirky(s, true, &warnings);
+    CHECK(validate(m).ok());
+    CHECK(warnings.empty());
+  }
+  SECTION("a body that splits no way keeps the header's error") {
+    std::vector<std::string> warnings;
+    CHECK_THROWS_WITH(read_quirky(s + "garbage\n", false, &warnings),
+                      Catch::Contains("unexpected data after the last element"));
+    CHECK(warnings.empty());
+  }
+}
+
+TEST_CASE("colors: integers are bytes, decimals 0..1; vertex colors and end-of-line comments",
+          "[off][quirks][color]") {
+  auto lines = simplex_lines();
+  lines[2] += " 255 255 255";  // vertex colors are read and ignored
+  lines[3] += " 0.5 0.5 0.5 1.0  # a vertex with a color and a comment";
+  lines[7] += " 0 0 1";         // integers: bytes, even when all are 0 or 1
+  lines[8] += " 1.0 0.5 0";     // decimals: 0..1
+  lines[9] += " 1e0 0 0 5e-1";  // an exponent makes it a decimal too
+  lines[10] += "#comment right after the indices";
+  for (std::size_t i = 17; i < 22; ++i) lines[i] += " 10 20 30 255 # cell " + std::to_string(i);
+  std::vector<std::string> warnings;
+  const Complex c = read_quirky(join(lines), true, &warnings);
+  CHECK(warnings.empty());
+  REQUIRE(validate(c).ok());
+  REQUIRE(c.colors(2).size() == 10);
+  CHECK(c.colors(2)[0] == Rgba{0.0f, 0.0f, static_cast<float>(1 / 255.0), 1.0f});
+  CHECK(c.colors(2)[1] == Rgba{1.0f, 0.5f, 0.0f, 1.0f});
+  CHECK(c.colors(2)[2] == Rgba{1.0f, 0.0f, 0.0f, 0.5f});
+  CHECK(c.colors(2)[3] == Rgba{});
+  REQUIRE(c.colors(3).size() == 5);
+  for (const auto& col : c.colors(3))
+    CHECK(col == Rgba{static_cast<float>(10 / 255.0), static_cast<float>(20 / 255.0),
+                      static_cast<float>(30 / 255.0), 1.0f});
+  // Written as decimals, so they read back the same.
+  const std::string text = to_text(c);
+  const Complex d = from_text(text);
+  CHECK(d.colors(2) == c.colors(2));
+  CHECK(d.colors(3) == c.colors(3));
+  // A model without colors stays without.
+  CHECK(from_text(join(simplex_lines())).colors(2).empty());
 }

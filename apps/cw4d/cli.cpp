@@ -33,6 +33,7 @@ const char* const kExitCodes =
     "  4  the output cannot be written (nothing is left half-written)\n"
     "  5  the section is empty: the plane misses the model, nothing is written\n"
     "  6  internal error (a bug in cw4d, or out of memory)\n"
+    "  7  check: at least one file failed (the report says which and why)\n"
     "Errors are printed as one line on stderr: \"cw4d: error: <message>\".";
 
 // --- text ------------------------------------------------------------------------------------

@@ -31,10 +31,17 @@ enum class Exit : int {
   cannot_write = 4,     // the output could not be written
   empty_section = 5,    // the plane misses the model: nothing written
   internal = 6,         // anything unexpected (a bug, out of memory)
+  check_failed = 7,     // cw4d check: at least one file failed
 };
 
 /// The exit-code table printed by `cw4d --help`.
 extern const char* const kExitCodes;
+
+/// cw4d check found a file that fails (the report says which and why).
+class CheckFailed : public Error {
+ public:
+  using Error::Error;
+};
 
 /// The empty-section outcome, thrown so that main() maps it like every other failure.
 class EmptySection : public Error {
@@ -184,5 +191,6 @@ void add_tetrahedralize_command(CLI::App& app, Commands& commands);
 void add_bench_command(CLI::App& app, Commands& commands);
 void add_view_command(CLI::App& app, Commands& commands);
 void add_atlas_command(CLI::App& app, Commands& commands);
+void add_check_command(CLI::App& app, Commands& commands);
 
 }  // namespace cw4d::cli

@@ -8,8 +8,10 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <set>
 
 #include "cli.hpp"
+#include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/text.hpp"
 #include "run.hpp"
 
@@ -48,6 +50,11 @@ int cw4d::cli::run(int argc, char** argv) {
   cli::add_atlas_command(app, commands);
   cli::add_bench_command(app, commands);
   cli::add_view_command(app, commands);
+  cli::add_check_command(app, commands);
+  bool strict = false;
+  app.add_flag("--strict", strict,
+               "Refuse nOFF files whose header counts disagree with their body (else they are "
+               "read as the body stands, with a warning)");
 
   // "cw4d help [COMMAND]" is "cw4d [COMMAND] --help"; an unknown first word is a mistyped
   // subcommand, named as such (CLI11 would only say that a subcommand is required).
@@ -80,6 +87,15 @@ int cw4d::cli::run(int argc, char** argv) {
     return fail(Exit::usage, std::string(e.what()) + " (run 'cw4d --help')");
   }
 
+  cw4d::OffReadOptions off_options;
+  off_options.strict = strict;
+  // Once per file and problem, though a command may read a file more than once.
+  off_options.warn = [printed = std::set<std::string>()](const std::string& warning) mutable {
+    if (!printed.insert(warning).second) return;
+    std::cerr << "cw4d: warning: " << cw4d::cli::one_line(cw4d::cli::bounded_message(warning))
+              << '\n';
+  };
+  const cw4d::ScopedOffReadOptions scoped_off_options(off_options);
   try {
     for (const auto& command : commands)
       if (*command.app) command.run();
@@ -91,6 +107,8 @@ int cw4d::cli::run(int argc, char** argv) {
     return fail(Exit::invalid_complex, e.what());
   } catch (const cw4d::IoError& e) {
     return fail(Exit::cannot_write, e.what());
+  } catch (const cli::CheckFailed& e) {
+    return fail(Exit::check_failed, e.what());
   } catch (const cli::EmptySection& e) {
     return fail(Exit::empty_section, e.what());
   } catch (const std::bad_alloc&) {

@@ -4,15 +4,18 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <istream>
 #include <iterator>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "cw4d/complex/atomic_file.hpp"
@@ -36,6 +39,7 @@ struct Line {
 // stays that of the text plus what the parser keeps.
 class LineReader {
  public:
+  LineReader() = default;
   explicit LineReader(std::string_view text) : text_(text) {
     // A UTF-8 byte-order mark (written by some Windows editors) is not part of the header.
     if (text_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
@@ -123,11 +127,134 @@ std::string show(std::string_view tok) {
   return out + (tok.size() > 40 ? "...'" : "'");
 }
 
+// The counts a body splits into (OFF and 4OFF) when they disagree with the header: every line
+// classified once as a vertex (n numbers, perhaps with a color) and as a list ("k id ... [color]"),
+// then the one split into vertices, faces (lists of >= 3 vertex ids) and cells (lists of face
+// ids) that every line fits, preferring the header's own counts where they fit. Nothing when
+// no split fits, or when the choice is not clear.
+struct LineShape {
+  bool vertex = false;
+  bool list = false;
+  std::uint64_t k = 0, max_id = 0;
+};
+
+bool is_number(std::string_view tok) {
+  double v = 0;
+  auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+  return ec == std::errc() && ptr == tok.data() + tok.size() && std::isfinite(v);
+}
+
+bool is_index(std::string_view tok, std::uint64_t* v) {
+  auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), *v);
+  return ec == std::errc() && ptr == tok.data() + tok.size();
+}
+
+LineShape classify(const std::vector<std::string_view>& t, int dim) {
+  LineShape s;
+  const std::size_t n = t.size(), d = static_cast<std::size_t>(dim);
+  s.vertex = (n == d || n == d + 3 || n == d + 4) && std::all_of(t.begin(), t.end(), is_number);
+  if (n >= 2 && is_index(t[0], &s.k) && s.k >= 1 &&
+      (n == s.k + 1 || n == s.k + 4 || n == s.k + 5)) {
+    s.list = true;
+    for (std::size_t i = 1; i < n && s.list; ++i) {
+      std::uint64_t v = 0;
+      if (i <= s.k) {
+        s.list = is_index(t[i], &v);
+        s.max_id = std::max(s.max_id, v);
+      } else {
+        s.list = is_number(t[i]);
+      }
+    }
+  }
+  return s;
+}
+
+std::optional<std::vector<std::uint64_t>> infer_counts(LineReader reader, const Line* first,
+                                                       int dim,
+                                                       const std::vector<std::uint64_t>& header) {
+  if (dim != 3 && dim != 4) return std::nullopt;
+  std::vector<LineShape> shape;
+  if (first) shape.push_back(classify(first->tokens, dim));
+  for (Line l; reader.next(l);) shape.push_back(classify(l.tokens, dim));
+  const std::size_t n = shape.size();
+  std::size_t p = 0;  // the longest prefix of vertex lines
+  while (p < n && shape[p].vertex) ++p;
+  for (std::size_t i = p; i < n; ++i)
+    if (!shape[i].list) return std::nullopt;
+  std::size_t lo = p;  // vertex lines at its end that could also be lists
+  while (lo > 0 && shape[lo - 1].list) --lo;
+  // suffix_max[i]: the largest id in lines i..n-1; suffix_k[i]: the sum of their sizes.
+  std::vector<std::uint64_t> suffix_max(n + 1, 0), suffix_k(n + 1, 0);
+  std::vector<std::uint64_t> suffix_min_k(n + 1, UINT64_MAX);
+  for (std::size_t i = n; i-- > 0;) {
+    suffix_max[i] = std::max(suffix_max[i + 1], shape[i].max_id);
+    suffix_k[i] = suffix_k[i + 1] + shape[i].k;
+    suffix_min_k[i] = std::min(suffix_min_k[i + 1], shape[i].k);
+  }
+  // The header's vertex count where it fits, else the shortest vertex block: lines that read
+  // both ways (in 4OFF "3 0 1 2" is a triangle or a point) are faces after it.
+  std::vector<std::size_t> candidates;
+  if (header[0] >= lo && header[0] <= p) candidates.push_back(header[0]);
+  if (candidates.empty() || candidates.front() != lo) candidates.push_back(lo);
+  for (const std::size_t nv : candidates) {
+    if (nv < static_cast<std::size_t>(dim) + 1 || nv >= n) continue;
+    if (dim == 3) {
+      if (suffix_max[nv] + 1 == nv && suffix_min_k[nv] >= 3)
+        return std::vector<std::uint64_t>{nv, n - nv, header[2]};
+      continue;
+    }
+    // 4OFF: faces nv .. nv+nf-1, cells after them.
+    std::vector<std::size_t> fits;
+    std::uint64_t face_max = 0, face_min_k = UINT64_MAX;
+    for (std::size_t nf = 1; nv + nf < n; ++nf) {
+      face_max = std::max(face_max, shape[nv + nf - 1].max_id);
+      face_min_k = std::min(face_min_k, shape[nv + nf - 1].k);
+      if (face_max >= nv || face_min_k < 3) break;
+      // The last vertex is used (a line that reads as a point but is no face's corner is not
+      // taken for a vertex), every cell's faces exist.
+      if (face_max + 1 == nv && suffix_max[nv + nf] < nf && suffix_min_k[nv + nf] >= 2)
+        fits.push_back(nf);
+    }
+    if (fits.empty()) continue;
+    auto fits_nf = [&](std::uint64_t nf) {
+      return std::find(fits.begin(), fits.end(), nf) != fits.end();
+    };
+    std::optional<std::size_t> nf;
+    // A closed complex has every face in exactly two cells: the one such split wins, then the
+    // header's face count, then its cell count; nothing else is guessed.
+    std::vector<std::size_t> closed;
+    for (std::size_t f : fits)
+      if (suffix_k[nv + f] == 2 * f) closed.push_back(f);
+    if (closed.size() == 1) {
+      nf = closed.front();
+    } else if (fits_nf(header[1])) {
+      nf = header[1];
+    } else if (header[3] < n - nv && fits_nf(n - nv - header[3])) {
+      nf = n - nv - header[3];
+    }
+    if (nf) return std::vector<std::uint64_t>{nv, *nf, header[2], n - nv - *nf};
+  }
+  return std::nullopt;
+}
+
 class Parser {
  public:
-  Parser(std::string name, std::string_view text) : name_(std::move(name)), reader_(text) {
+  Parser(std::string name, std::string_view text,
+         std::optional<std::vector<std::uint64_t>> counts = std::nullopt)
+      : name_(std::move(name)), reader_(text), forced_(std::move(counts)) {
     have_ = reader_.next(ahead_);
   }
+
+  // After parse() failed reading the elements: the counts the body holds, when they differ
+  // from the header's and the body splits clearly; also the line of the header's counts.
+  std::optional<std::vector<std::uint64_t>> body_counts(std::size_t* count_line) const {
+    if (!in_body_) return std::nullopt;
+    *count_line = count_line_;
+    auto c = infer_counts(body_reader_, have_body_ ? &body_first_ : nullptr, dim_, header_);
+    if (c && *c == header_) return std::nullopt;
+    return c;
+  }
+  const std::vector<std::uint64_t>& header_counts() const { return header_; }
 
   [[noreturn]] void fail(std::size_t line, const std::string& message) const {
     throw ParseError(name_, line, message);
@@ -163,25 +290,26 @@ class Parser {
     return v;
   }
 
-  // Trailing color: 3 or 4 components, all in [0,1], or integers in [0,255].
+  // Trailing color: 3 or 4 components; integers are bytes 0..255, decimals (a '.' or an
+  // exponent in any component) are on the 0..1 scale.
   Rgba parse_color(const Line& l, std::size_t first, const std::string& what) const {
     const std::size_t n = l.tokens.size() - first;
     if (n != 3 && n != 4)
       fail(l.number, what + " has " + std::to_string(n) +
                          " values after its indices (expected none, or a color of 3 or 4)");
     double c[4] = {1, 1, 1, 1};
-    bool integral = true, above_one = false;
+    bool integral = true;
     for (std::size_t i = 0; i < n; ++i) {
       c[i] = parse_double(l.tokens[first + i], l.number, what + " color component");
       if (c[i] < 0 || c[i] > 255) fail(l.number, what + " color component out of range 0..255");
       integral = integral && l.tokens[first + i].find_first_of(".eE") == std::string_view::npos;
-      above_one = above_one || c[i] > 1;
     }
-    if (integral && above_one)
-      for (auto& x : c) x /= 255.0;
-    else if (above_one)
-      fail(l.number, what + " color mixes 0..1 and 0..255 scales");
-    if (n == 3) c[3] = 1.0;
+    if (integral) {
+      for (std::size_t i = 0; i < n; ++i) c[i] /= 255.0;
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        if (c[i] > 1) fail(l.number, what + " color mixes 0..1 decimals and 0..255 integers");
+    }
     return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
             static_cast<float>(c[3])};
   }
@@ -253,6 +381,14 @@ class Parser {
                            std::to_string(count_tokens.size()));
     std::vector<std::uint64_t> counts;
     for (auto tok : count_tokens) counts.push_back(parse_count(tok, count_line, "count"));
+    header_ = counts;
+    count_line_ = count_line;
+    dim_ = dim;
+    body_reader_ = reader_;
+    body_first_ = ahead_;
+    have_body_ = have_;
+    in_body_ = true;
+    if (forced_) counts = *forced_;
     const std::uint64_t nv = counts[0], nf = counts[1];
     // counts[2] (edges) is informational.
     // Counts never drive allocation before the data is seen to exist: the announced element
@@ -272,9 +408,12 @@ class Parser {
     soup.positions.resize(dim, static_cast<Eigen::Index>(nv));
     for (std::uint64_t v = 0; v < nv; ++v) {
       const Line& l = next("vertex " + std::to_string(v));
-      if (l.tokens.size() != static_cast<std::size_t>(dim))
+      const std::size_t nt = l.tokens.size(), d = static_cast<std::size_t>(dim);
+      if (nt != d && nt != d + 3 && nt != d + 4)
         fail(l.number, "vertex " + std::to_string(v) + " has " + std::to_string(l.tokens.size()) +
-                           " coordinates, expected " + std::to_string(dim));
+                           " coordinates, expected " + std::to_string(dim) +
+                           " (or a color of 3 or 4 after them)");
+      if (nt > d) parse_color(l, d, "vertex " + std::to_string(v));  // read, not kept
       for (int i = 0; i < dim; ++i)
         soup.positions(i, static_cast<Eigen::Index>(v)) =
             parse_double(l.tokens[i], l.number, "vertex " + std::to_string(v) + " coordinate");
@@ -316,6 +455,7 @@ class Parser {
       soup.higher_colors.push_back(any_color ? colors : std::vector<Rgba>{});
     }
     if (!at_end()) fail(ahead_.number, "unexpected data after the last element");
+    in_body_ = false;
     try {
       return build_complex(soup);
     } catch (const TopologyError& e) {
@@ -347,7 +487,57 @@ class Parser {
   bool have_ = false;
   std::size_t eof_line_ = 1;
   OffLines where_;
+  std::optional<std::vector<std::uint64_t>> forced_;
+  // The state after the counts, for body_counts().
+  std::vector<std::uint64_t> header_;
+  std::size_t count_line_ = 0;
+  int dim_ = 0;
+  LineReader body_reader_;
+  Line body_first_;
+  bool have_body_ = false, in_body_ = false;
 };
+
+thread_local OffReadOptions current_options;
+
+std::string count_text(const std::vector<std::uint64_t>& c) {
+  std::string out;
+  for (auto x : c) out += (out.empty() ? "" : " ") + std::to_string(x);
+  return out;
+}
+
+Complex parse_text(const std::string& name, std::string_view text, OffLines* lines) {
+  Parser parser(name, text);
+  std::optional<std::vector<std::uint64_t>> body;
+  std::size_t line = 0;
+  std::exception_ptr original;
+  try {
+    Complex c = parser.parse();
+    if (lines) *lines = parser.where();
+    return c;
+  } catch (const ParseError&) {
+    body = parser.body_counts(&line);
+    if (!body) throw;
+    original = std::current_exception();
+  }
+  const auto& h = parser.header_counts();
+  std::string what = "header counts " + count_text(h) + " disagree with the body, which holds " +
+                     std::to_string((*body)[0]) + " vertices, " + std::to_string((*body)[1]) +
+                     " faces" +
+                     (body->size() > 3 ? ", " + std::to_string((*body)[3]) + " cells" : "");
+  Parser again(name, text, body);
+  Complex c;
+  try {
+    c = again.parse();
+  } catch (const ParseError&) {
+    std::rethrow_exception(original);  // the split did not hold: the header's problem it is
+  }
+  if (current_options.strict) throw ParseError(name, line, what + " (refused: strict reading)");
+  if (lines) *lines = again.where();
+  if (current_options.warn)
+    current_options.warn(name + ":" + std::to_string(line) + ": " + what +
+                         "; read as the body stands");
+  return c;
+}
 
 void append_number(std::string& out, double v) {
   char buf[64];
@@ -357,21 +547,24 @@ void append_number(std::string& out, double v) {
 
 }  // namespace
 
+ScopedOffReadOptions::ScopedOffReadOptions(OffReadOptions options)
+    : previous_(std::exchange(current_options, std::move(options))) {}
+ScopedOffReadOptions::~ScopedOffReadOptions() {
+  current_options = std::move(previous_);
+}
+const OffReadOptions& off_read_options() {
+  return current_options;
+}
+
 Complex read_off(std::istream& in, const std::string& name, OffLines* lines) {
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw ParseError(name, 0, "read error");
-  Parser parser(name, text);
-  Complex c = parser.parse();
-  if (lines) *lines = parser.where();
-  return c;
+  return parse_text(name, text, lines);
 }
 
 Complex read_off_file(const std::string& path, OffLines* lines) {
   const std::string text = read_input_file(path);  // the tokens are views into it
-  Parser parser(path, text);
-  Complex c = parser.parse();
-  if (lines) *lines = parser.where();
-  return c;
+  return parse_text(path, text, lines);
 }
 
 namespace {
@@ -403,7 +596,10 @@ std::string off_text(const Complex& c) {
     const Rgba& col = colors[i];
     for (float x : {col.r, col.g, col.b, col.a}) {
       out += ' ';
+      const std::size_t at = out.size();
       append_number(out, x);
+      // Decimals, so that they read back on the 0..1 scale (integers are bytes).
+      if (out.find_first_of(".eE", at) == std::string::npos) out += ".0";
     }
   };
   out += "\n# Faces\n";

@@ -11,7 +11,8 @@ Section.vertices, Section.normals, Section.source_cells, Section.source(rank),
 Section.vertex_source. Everything else that returns an array computes it into a new one
 (Section.polygons, Section.triangles(), Section.world_vertices(), render(), ...).
 
-numpy is needed only by the calls that return arrays, matplotlib only by Section.plot().
+numpy is needed only by the calls that return arrays, matplotlib only by Section.plot(), and
+trimesh, pyvista and meshio only by Section.to_trimesh(), .to_pyvista() and .to_meshio().
 """
 
 from . import _cw4d
@@ -73,10 +74,11 @@ from ._cw4d import (
     write_svg,
     wythoff,
 )
-from . import _notebook
+from . import _interop, _notebook
 
 __version__ = "0.1.0"
 
 _notebook.install(Section)
+_interop.install(Section)
 
 __all__ = [name for name in dir(_cw4d) if not name.startswith("_")]

@@ -153,6 +153,12 @@ class Section:
     def _repr_svg_(self) -> Optional[str]: ...
     def plot(self, ax: object = None, *, facecolor: object = None, edgecolor: object = "k",
              alpha: float = 0.85, linewidth: float = 0.5) -> object: ...
+    def to_trimesh(self) -> Any:
+        """trimesh.Trimesh of the triangles; needs trimesh (ImportError naming it if missing)."""
+    def to_pyvista(self) -> Any:
+        """pyvista.PolyData of the polygons; needs pyvista."""
+    def to_meshio(self, triangulate: bool = True) -> Any:
+        """meshio.Mesh (triangles, or one block per polygon size); needs meshio."""
 
 class SliceModel:
     def __init__(self, model: Complex, clustered: bool = True) -> None: ...
