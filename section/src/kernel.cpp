@@ -22,6 +22,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
@@ -220,7 +221,7 @@ inline bool chain_fixed(const std::uint32_t* faces, const std::int8_t* signs, st
 // them, and (Buckets) hands each cell its step in the cell's bucket. Everything the loop reads
 // and writes is in locals: the byte stores of the marks would otherwise make the compiler
 // reload every pointer kept in memory.
-struct Slicer::FaceHand {
+struct Slicer::Impl::FaceHand {
   const std::uint32_t* faces;  // the cut faces, in increasing id
   std::uint32_t nse;
   const std::uint32_t* face_ends;  // per face its two crossings | coefficient bit
@@ -244,7 +245,7 @@ struct Slicer::FaceHand {
 };
 
 template <bool Buckets, std::uint32_t Stride>
-std::uint32_t Slicer::hand_faces(FaceHand& h, std::uint32_t se) {
+std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
   const std::uint32_t* const faces = h.faces;
   const std::uint32_t nse = h.nse;
@@ -321,8 +322,8 @@ std::uint32_t Slicer::hand_faces(FaceHand& h, std::uint32_t se) {
   return se;
 }
 
-int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                         bool marked_edges) {
+int Slicer::Impl::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                               bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.

@@ -21,32 +21,80 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
 // The kernel's loop steps and the generic gathering's vertex and edge stamps share stamp_: when it
 // wraps, every stamp of both is cleared, so no old stamp can equal a new one.
-void Slicer::forget_stamps() {
+void Slicer::Impl::forget_stamps() {
   for (auto& step : loop_step_) step.stamp = 0;
   std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
   std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
   stamp_ = 1;
 }
 
-// --- slicing --------------------------------------------------------------------------------
+// --- the facade -----------------------------------------------------------------------------
+
+Slicer::Slicer() : impl_(std::make_unique<Impl>()) {}
+Slicer::~Slicer() = default;
+Slicer::Slicer(Slicer&&) noexcept = default;
+Slicer& Slicer::operator=(Slicer&&) noexcept = default;
+Slicer::Slicer(const Slicer& other)
+    : impl_(std::make_unique<Impl>(other.impl_ ? *other.impl_ : Impl{})) {}
+Slicer& Slicer::operator=(const Slicer& other) {
+  if (this != &other) impl_ = std::make_unique<Impl>(other.impl_ ? *other.impl_ : Impl{});
+  return *this;
+}
+
+void Slicer::slice(const SliceModel& model, const Hyperplane& plane,
+                   const AffineTransform& model_to_world, SliceBuffers& out,
+                   const SliceOptions& options) {
+  if (!impl_) impl_ = std::make_unique<Impl>();  // (moved from)
+  impl_->slice(model, plane, model_to_world, out, options);
+}
 
 void Slicer::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
                    const SliceOptions& options) {
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  impl_->slice(model, plane, out, options);
+}
+
+void Slicer::sweep(const SliceModel& model, const Eigen::VectorXd& normal,
+                   std::span<const double> offsets, const AffineTransform& model_to_world,
+                   std::vector<SliceBuffers>& out, unsigned threads) {
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  impl_->sweep(model, normal, offsets, model_to_world, out, threads);
+}
+
+std::size_t Slicer::fast_slices() const {
+  return impl_ ? impl_->fast_count_ : 0;
+}
+std::size_t Slicer::cached_slices() const {
+  return impl_ ? impl_->cached_count_ : 0;
+}
+std::size_t Slicer::kernel_elements() const {
+  return impl_ ? impl_->kernel_count_ : 0;
+}
+std::size_t Slicer::generic_elements() const {
+  return impl_ ? impl_->generic_count_ : 0;
+}
+
+// --- slicing --------------------------------------------------------------------------------
+
+void Slicer::Impl::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
+                         const SliceOptions& options) {
   slice_placed(model, plane, nullptr, out, options);
 }
 
-void Slicer::slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                   SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
+                         SliceBuffers& out, const SliceOptions& options) {
   slice_placed(m, plane, &xf, out, options);
 }
 
-void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                          SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice_placed(const SliceModel& m, const Hyperplane& plane,
+                                const AffineTransform* xf, SliceBuffers& out,
+                                const SliceOptions& options) {
   if (!m.fast() || plane.dim() != m.dim() || (xf && xf->dim() != m.dim())) {
     general_from(m, plane, xf, out);  // (which throws InputError for mismatched dimensions)
     return;
@@ -56,8 +104,9 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
   slice_with(m, pl, plane, xf, out, options);
 }
 
-void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
-                        const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+                              const AffineTransform* xf, SliceBuffers& out,
+                              const SliceOptions& options) {
   pl.plane = &plane;  // (a scene's cached placement was made for an equal plane)
   out.source_fingerprint = m.fingerprint_;
   near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
@@ -71,8 +120,8 @@ void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& pl
   if (!fast_slice(m, pl, options, out)) general_from(m, plane, xf, out);
 }
 
-void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                          SliceBuffers& out) {
+void Slicer::Impl::general_from(const SliceModel& m, const Hyperplane& plane,
+                                const AffineTransform* xf, SliceBuffers& out) {
   out.source_fingerprint = m.fingerprint_;
   if (xf)
     general_slice(m, plane, *xf, out);
@@ -80,8 +129,8 @@ void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const Af
     general_slice(m, plane, AffineTransform::identity(m.dim()), out);
 }
 
-void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                           SliceBuffers& out) {
+void Slicer::Impl::general_slice(const SliceModel& m, const Hyperplane& plane,
+                                 const AffineTransform& xf, SliceBuffers& out) {
   const Section sec = general_cut(m.complex(), plane, xf);
   const Complex& c = sec.complex;
   out.dim = c.ambient_dim();
@@ -99,8 +148,8 @@ void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const A
   out.cache_valid_ = false;
 }
 
-bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
-                        std::vector<Term>& image) {
+bool Slicer::Impl::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
+                              std::vector<Term>& image) {
   // As the general path's emit_faces: signed section edges chained into closed loops, each
   // loop one polygon in cycle order; loops start at the smallest unused tail.
   Incidence& edges = out.boundary[0];
@@ -161,8 +210,8 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
   return true;
 }
 
-bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
-                          std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
+bool Slicer::Impl::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
+                                std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
   combine_chain(chain_);  // as the general path does
   if (chain_.empty()) return true;
   const SliceModel::Rank& R = m.ranks_[k];
@@ -199,7 +248,7 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
   return true;
 }
 
-void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
+void Slicer::Impl::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
   const SliceModel::Up up = m.up(k);
   std::vector<std::uint64_t>& bits = mark_[k + 1];
   for (std::uint32_t i = up.begin(x), end = up.end(x); i < end; ++i) {
@@ -208,20 +257,20 @@ void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
   }
 }
 
-bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                        SliceBuffers& out) {
+bool Slicer::Impl::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                              SliceBuffers& out) {
   prepare(m);
   if (fast_slice_marked(m, pl, options, out)) return true;
   clear_marks(m);
   return false;
 }
 
-void Slicer::clear_marks(const SliceModel& m) {
+void Slicer::Impl::clear_marks(const SliceModel& m) {
   // Given up half way: no marks may survive into the next slice.
   for (int k = 1; k <= m.top_; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
 }
 
-void Slicer::prepare(const SliceModel& m) {
+void Slicer::Impl::prepare(const SliceModel& m) {
   const int top = m.top_;
   const std::size_t nv = m.nv_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
@@ -243,14 +292,14 @@ void Slicer::prepare(const SliceModel& m) {
   }
 }
 
-void Slicer::size_images(const SliceModel& m) {
+void Slicer::Impl::size_images(const SliceModel& m) {
   for (int k = 1; k <= m.top_; ++k) {
     const std::size_t count = m.ranks_[k].count;
     if (images_[k].size() < count) images_[k].resize(count);
   }
 }
 
-void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
   start_kernel_buffers(m, pl, out);
   // ... and the lists it keeps emptied as well: every table and list of the slice is empty.
   out.coords.clear();
@@ -264,7 +313,8 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
     out.source[r].clear();
 }
 
-void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::start_kernel_buffers(const SliceModel& m, const Placement& pl,
+                                        SliceBuffers& out) {
   // The buffers' plane, frame and flags, their tables and lists for the model's ranks, the
   // tables above the polygons and the lists above theirs empty. What the kernel writes whole at
   // its final size (vertices and their sources, coordinates, section edges, polygons, their
@@ -291,14 +341,14 @@ void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, Slic
   for (std::size_t r = 3; r < out.source.size(); ++r) out.source[r].clear();
 }
 
-bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
+bool Slicer::Impl::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
   *t_out = t;
   return !m.crossing_test(near_parallel_)(a, b, s_[a], s_[b], t);
 }
 
-bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+bool Slicer::Impl::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
   double t;
   if (!crossing(m, e, &t)) return fail(FallbackReason::Weld);
   const SliceModel::Rank& E = m.ranks_[1];
@@ -312,8 +362,8 @@ bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& ou
   return true;
 }
 
-bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
-                               const SliceOptions& options, SliceBuffers& out) {
+bool Slicer::Impl::fast_slice_marked(const SliceModel& m, const Placement& pl,
+                                     const SliceOptions& options, SliceBuffers& out) {
   const int n = m.dim_;
   const std::size_t nc = m.cluster_count();
   touched_.clear();
@@ -439,7 +489,8 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   return true;
 }
 
-bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from) {
+bool Slicer::Impl::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                             int from) {
   const int fr = m.dim_ - 1;
   const int top = m.top_;
   // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
@@ -607,7 +658,7 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
   return finish_fast(m, pl, out, section_edge_, facet_internal_);
 }
 
-void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
   out.cache_model_ = m.serial_;
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
@@ -622,9 +673,9 @@ void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& ou
   out.cache_valid_ = true;
 }
 
-bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                         std::span<const std::uint32_t> section_edge,
-                         std::span<const std::uint32_t> facet_internal) {
+bool Slicer::Impl::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                               std::span<const std::uint32_t> section_edge,
+                               std::span<const std::uint32_t> facet_internal) {
   const int n = m.dim_;
   // Orientation as section(): the facets' cuts face outward for even n, inward for odd n, and
   // a reflecting transform reverses them once more; solids list their facets with +1.
@@ -748,9 +799,9 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
 
 }  // namespace
 
-bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                            std::span<const std::uint32_t> section_edge,
-                            std::span<const std::uint32_t> facet_internal, bool facets) {
+bool Slicer::Impl::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+                                  std::span<const std::uint32_t> section_edge,
+                                  std::span<const std::uint32_t> facet_internal, bool facets) {
   const int n = m.dim_;
   const int o = n - 1;
   out.coords.resize(section_edge.size() * o);
@@ -769,8 +820,8 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   return true;
 }
 
-bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                   SliceBuffers& out) {
+bool Slicer::Impl::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+                         SliceBuffers& out) {
   if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
     return false;
   const int n = m.dim_;

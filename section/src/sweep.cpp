@@ -22,6 +22,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
@@ -45,9 +46,9 @@ std::uint32_t first_greater(const double* x, std::uint32_t n, double h) {
 
 // --- sweeps ---------------------------------------------------------------------------------
 
-void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
-                   std::span<const double> offsets, const AffineTransform& xf,
-                   std::vector<SliceBuffers>& out, unsigned threads) {
+void Slicer::Impl::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
+                         std::span<const double> offsets, const AffineTransform& xf,
+                         std::vector<SliceBuffers>& out, unsigned threads) {
   if (offsets.empty()) {
     out.clear();
     return;
@@ -86,9 +87,10 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
 }
 
-void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                          std::span<const double> offsets, std::span<const std::uint32_t> layers,
-                          std::vector<SliceBuffers>& out) {
+void Slicer::Impl::sweep_layers(const SliceModel& m, const Hyperplane& plane,
+                                const AffineTransform& xf, std::span<const double> offsets,
+                                std::span<const std::uint32_t> layers,
+                                std::vector<SliceBuffers>& out) {
   const std::size_t L = layers.size();
   if (L == 0) return;
   kernel_ = true;
@@ -360,7 +362,7 @@ void csr_offsets(std::span<const std::uint32_t> keys, std::size_t count,
 
 }  // namespace
 
-void Slicer::sweep_incidences(const SliceModel& m) {
+void Slicer::Impl::sweep_incidences(const SliceModel& m) {
   SweepState& w = sweep_;
   if (w.model == m.serial_) return;
   const SliceModel::Rank& E = m.ranks_[1];
@@ -401,7 +403,7 @@ void Slicer::sweep_incidences(const SliceModel& m) {
   w.model = m.serial_;
 }
 
-std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
+std::uint8_t Slicer::Impl::sweep_face(const SliceModel& m, std::uint32_t f) {
   // As the kernel's face pass: exactly two crossings of opposite coefficients (+1 when the
   // edge's tail is below) give the section edge from the -1 crossing to the +1 one.
   SweepState& w = sweep_;
@@ -427,7 +429,7 @@ std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
   return 1;
 }
 
-std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
+std::uint8_t Slicer::Impl::sweep_cell(const SliceModel& m, std::uint32_t c) {
   // As the kernel's cell pass: one step per cut face (forward when the face's sign in the cell
   // is -1), one leaving each tail, followed from the smallest tail through every step.
   SweepState& w = sweep_;
@@ -527,7 +529,8 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   return 1;
 }
 
-void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild) {
+void Slicer::Impl::sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved,
+                                bool rebuild) {
   // The sides of `moved` (of every vertex when rebuilding) are already those of the new layer.
   SweepState& w = sweep_;
   const SliceModel::Rank& E = m.ranks_[1];
@@ -657,7 +660,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   }
 }
 
-void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
+void Slicer::Impl::sweep_normals(const SliceModel& m, const Placement& pl) {
   // write_geometry's facet normal of every cell (term for term): the model facet's normal
   // through A^{-T}, projected, unit; the fourth entry 0 when nearly parallel to the plane.
   SweepState& w = sweep_;
@@ -682,9 +685,10 @@ void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
   }
 }
 
-void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
-                          std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
-                          const AffineTransform& xf, const Hyperplane& plane) {
+void Slicer::Impl::sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
+                                std::span<const std::uint32_t> layers,
+                                std::vector<SliceBuffers>& out, const AffineTransform& xf,
+                                const Hyperplane& plane) {
   SweepState& w = sweep_;
   const std::size_t L = layers.size();
   bool restore = false;  // slice() wrote its own sides
