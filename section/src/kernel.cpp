@@ -322,8 +322,8 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   return se;
 }
 
-int Slicer::Impl::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                               bool marked_edges) {
+int Slicer::Impl::kernel_slice(const SliceModel::Compiled& m, const Placement& pl,
+                               SliceBuffers& out, bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
@@ -338,13 +338,13 @@ int Slicer::Impl::kernel_slice(const SliceModel& m, const Placement& pl, SliceBu
   if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
   start_kernel_buffers(m, pl, out);
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
-  const SliceModel::Rank& E = m.ranks_[1];
-  const SliceModel::Rank& F = m.ranks_[2];
-  const SliceModel::Rank& C = m.ranks_[3];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& F = m.ranks_[2];
+  const SliceModel::Compiled::Rank& C = m.ranks_[3];
   const std::uint32_t* const edge_ends = E.ids.data();
   const std::int8_t* const side = side_.data();
   const double* const s = s_.data();
-  const SliceModel::CrossingTest needs_general = m.crossing_test(near_parallel_);
+  const SliceModel::Compiled::CrossingTest needs_general = m.crossing_test(near_parallel_);
   const std::uint32_t* const edge_model = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* const face_model = F.model_id.empty() ? nullptr : F.model_id.data();
   const std::uint32_t* const cell_model = C.model_id.empty() ? nullptr : C.model_id.data();
@@ -379,7 +379,7 @@ int Slicer::Impl::kernel_slice(const SliceModel& m, const Placement& pl, SliceBu
     face_edge_stale_ = false;
     return result;
   };
-  const SliceModel::Up edge_up = m.up(1), face_up = m.up(2);
+  const SliceModel::Compiled::Up edge_up = m.up(1), face_up = m.up(2);
   const std::uint32_t* const edge_up_ids = edge_up.ids;
   const std::uint32_t* const face_up_ids = face_up.ids;
   // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
@@ -503,7 +503,8 @@ int Slicer::Impl::kernel_slice(const SliceModel& m, const Placement& pl, SliceBu
     std::uint32_t* const src = out.source[2].data();
     std::uint32_t* const facet = facet_internal_.data();
     LoopStep* const step = loop_step_.data();
-    const SliceModel::Up solid_up = above ? m.up(3) : SliceModel::Up{nullptr, nullptr, 0};
+    const SliceModel::Compiled::Up solid_up =
+        above ? m.up(3) : SliceModel::Compiled::Up{nullptr, nullptr, 0};
     const std::uint32_t* const solid_up_ids = solid_up.ids;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     const std::uint32_t* const cell_off = C.offsets.data();

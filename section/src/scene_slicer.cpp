@@ -279,8 +279,8 @@ void SceneSlicer::Impl::slice(const Hyperplane& plane, SceneSlice& out, unsigned
         continue;
       }
       Slicer::Placement& pl = cache.pl[job.slot];
-      if (job.fresh) pl.set(*job.model, plane, job.transform);
-      slicers_[t].impl_->slice_with(*job.model, pl, plane, job.transform, o, options);
+      if (job.fresh) pl.set(*job.model->compiled_, plane, job.transform);
+      slicers_[t].impl_->slice_with(*job.model->compiled_, pl, plane, job.transform, o, options);
     }
   };
   // Blocks of consecutive touched objects; each thread writes only its own entries of

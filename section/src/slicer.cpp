@@ -51,20 +51,20 @@ void Slicer::slice(const SliceModel& model, const Hyperplane& plane,
                    const AffineTransform& model_to_world, SliceBuffers& out,
                    const SliceOptions& options) {
   if (!impl_) impl_ = std::make_unique<Impl>();  // (moved from)
-  impl_->slice(model, plane, model_to_world, out, options);
+  impl_->slice(*model.compiled_, plane, model_to_world, out, options);
 }
 
 void Slicer::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
                    const SliceOptions& options) {
   if (!impl_) impl_ = std::make_unique<Impl>();
-  impl_->slice(model, plane, out, options);
+  impl_->slice(*model.compiled_, plane, out, options);
 }
 
 void Slicer::sweep(const SliceModel& model, const Eigen::VectorXd& normal,
                    std::span<const double> offsets, const AffineTransform& model_to_world,
                    std::vector<SliceBuffers>& out, unsigned threads) {
   if (!impl_) impl_ = std::make_unique<Impl>();
-  impl_->sweep(model, normal, offsets, model_to_world, out, threads);
+  impl_->sweep(*model.compiled_, normal, offsets, model_to_world, out, threads);
 }
 
 std::size_t Slicer::fast_slices() const {
@@ -82,17 +82,18 @@ std::size_t Slicer::generic_elements() const {
 
 // --- slicing --------------------------------------------------------------------------------
 
-void Slicer::Impl::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
-                         const SliceOptions& options) {
+void Slicer::Impl::slice(const SliceModel::Compiled& model, const Hyperplane& plane,
+                         SliceBuffers& out, const SliceOptions& options) {
   slice_placed(model, plane, nullptr, out, options);
 }
 
-void Slicer::Impl::slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                         SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice(const SliceModel::Compiled& m, const Hyperplane& plane,
+                         const AffineTransform& xf, SliceBuffers& out,
+                         const SliceOptions& options) {
   slice_placed(m, plane, &xf, out, options);
 }
 
-void Slicer::Impl::slice_placed(const SliceModel& m, const Hyperplane& plane,
+void Slicer::Impl::slice_placed(const SliceModel::Compiled& m, const Hyperplane& plane,
                                 const AffineTransform* xf, SliceBuffers& out,
                                 const SliceOptions& options) {
   if (!m.fast() || plane.dim() != m.dim() || (xf && xf->dim() != m.dim())) {
@@ -104,7 +105,7 @@ void Slicer::Impl::slice_placed(const SliceModel& m, const Hyperplane& plane,
   slice_with(m, pl, plane, xf, out, options);
 }
 
-void Slicer::Impl::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+void Slicer::Impl::slice_with(const SliceModel::Compiled& m, Placement& pl, const Hyperplane& plane,
                               const AffineTransform* xf, SliceBuffers& out,
                               const SliceOptions& options) {
   pl.plane = &plane;  // (a scene's cached placement was made for an equal plane)
@@ -120,7 +121,7 @@ void Slicer::Impl::slice_with(const SliceModel& m, Placement& pl, const Hyperpla
   if (!fast_slice(m, pl, options, out)) general_from(m, plane, xf, out);
 }
 
-void Slicer::Impl::general_from(const SliceModel& m, const Hyperplane& plane,
+void Slicer::Impl::general_from(const SliceModel::Compiled& m, const Hyperplane& plane,
                                 const AffineTransform* xf, SliceBuffers& out) {
   out.source_fingerprint = m.fingerprint_;
   if (xf)
@@ -129,7 +130,7 @@ void Slicer::Impl::general_from(const SliceModel& m, const Hyperplane& plane,
     general_slice(m, plane, AffineTransform::identity(m.dim()), out);
 }
 
-void Slicer::Impl::general_slice(const SliceModel& m, const Hyperplane& plane,
+void Slicer::Impl::general_slice(const SliceModel::Compiled& m, const Hyperplane& plane,
                                  const AffineTransform& xf, SliceBuffers& out) {
   const Section sec = general_cut(m.complex(), plane, xf);
   const Complex& c = sec.complex;
@@ -210,11 +211,12 @@ bool Slicer::Impl::emit_loops(std::span<Term> chain, std::uint32_t source, Slice
   return true;
 }
 
-bool Slicer::Impl::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
-                                std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
+bool Slicer::Impl::emit_element(const SliceModel::Compiled& m, int k, std::uint32_t x,
+                                SliceBuffers& out, std::vector<std::uint32_t>& facets,
+                                std::vector<Term>& image) {
   combine_chain(chain_);  // as the general path does
   if (chain_.empty()) return true;
-  const SliceModel::Rank& R = m.ranks_[k];
+  const SliceModel::Compiled::Rank& R = m.ranks_[k];
   const int fr = m.dim_ - 1;
   const std::uint32_t model_x = R.model_id.empty() ? x : R.model_id[x];
   if (k == 2) {
@@ -248,29 +250,29 @@ bool Slicer::Impl::emit_element(const SliceModel& m, int k, std::uint32_t x, Sli
   return true;
 }
 
-void Slicer::Impl::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
-  const SliceModel::Up up = m.up(k);
+void Slicer::Impl::mark_parents(const SliceModel::Compiled& m, int k, std::uint32_t x) {
+  const SliceModel::Compiled::Up up = m.up(k);
   std::vector<std::uint64_t>& bits = mark_[k + 1];
   for (std::uint32_t i = up.begin(x), end = up.end(x); i < end; ++i) {
-    const std::uint32_t y = up.ids[i] & SliceModel::kUpIndex;
+    const std::uint32_t y = up.ids[i] & SliceModel::Compiled::kUpIndex;
     bits[y >> 6] |= std::uint64_t{1} << (y & 63);
   }
 }
 
-bool Slicer::Impl::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                              SliceBuffers& out) {
+bool Slicer::Impl::fast_slice(const SliceModel::Compiled& m, const Placement& pl,
+                              const SliceOptions& options, SliceBuffers& out) {
   prepare(m);
   if (fast_slice_marked(m, pl, options, out)) return true;
   clear_marks(m);
   return false;
 }
 
-void Slicer::Impl::clear_marks(const SliceModel& m) {
+void Slicer::Impl::clear_marks(const SliceModel::Compiled& m) {
   // Given up half way: no marks may survive into the next slice.
   for (int k = 1; k <= m.top_; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
 }
 
-void Slicer::Impl::prepare(const SliceModel& m) {
+void Slicer::Impl::prepare(const SliceModel::Compiled& m) {
   const int top = m.top_;
   const std::size_t nv = m.nv_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
@@ -292,14 +294,15 @@ void Slicer::Impl::prepare(const SliceModel& m) {
   }
 }
 
-void Slicer::Impl::size_images(const SliceModel& m) {
+void Slicer::Impl::size_images(const SliceModel::Compiled& m) {
   for (int k = 1; k <= m.top_; ++k) {
     const std::size_t count = m.ranks_[k].count;
     if (images_[k].size() < count) images_[k].resize(count);
   }
 }
 
-void Slicer::Impl::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::start_buffers(const SliceModel::Compiled& m, const Placement& pl,
+                                 SliceBuffers& out) {
   start_kernel_buffers(m, pl, out);
   // ... and the lists it keeps emptied as well: every table and list of the slice is empty.
   out.coords.clear();
@@ -313,7 +316,7 @@ void Slicer::Impl::start_buffers(const SliceModel& m, const Placement& pl, Slice
     out.source[r].clear();
 }
 
-void Slicer::Impl::start_kernel_buffers(const SliceModel& m, const Placement& pl,
+void Slicer::Impl::start_kernel_buffers(const SliceModel::Compiled& m, const Placement& pl,
                                         SliceBuffers& out) {
   // The buffers' plane, frame and flags, their tables and lists for the model's ranks, the
   // tables above the polygons and the lists above theirs empty. What the kernel writes whole at
@@ -341,17 +344,17 @@ void Slicer::Impl::start_kernel_buffers(const SliceModel& m, const Placement& pl
   for (std::size_t r = 3; r < out.source.size(); ++r) out.source[r].clear();
 }
 
-bool Slicer::Impl::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
+bool Slicer::Impl::crossing(const SliceModel::Compiled& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
   *t_out = t;
   return !m.crossing_test(near_parallel_)(a, b, s_[a], s_[b], t);
 }
 
-bool Slicer::Impl::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+bool Slicer::Impl::add_crossing(const SliceModel::Compiled& m, std::uint32_t e, SliceBuffers& out) {
   double t;
   if (!crossing(m, e, &t)) return fail(FallbackReason::Weld);
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   const std::uint32_t a = E.ids[2 * e];
   const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
   out.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
@@ -362,7 +365,7 @@ bool Slicer::Impl::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffe
   return true;
 }
 
-bool Slicer::Impl::fast_slice_marked(const SliceModel& m, const Placement& pl,
+bool Slicer::Impl::fast_slice_marked(const SliceModel::Compiled& m, const Placement& pl,
                                      const SliceOptions& options, SliceBuffers& out) {
   const int n = m.dim_;
   const std::size_t nc = m.cluster_count();
@@ -472,7 +475,7 @@ bool Slicer::Impl::fast_slice_marked(const SliceModel& m, const Placement& pl,
   size_images(m);
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   for (auto c : touched_)
     for (std::uint32_t e = m.begin_[0][c]; e < m.begin_[0][c + 1]; ++e)
       if (side_[E.ids[2 * e]] != side_[E.ids[2 * e + 1]] && !add_crossing(m, e, out)) return false;
@@ -489,14 +492,14 @@ bool Slicer::Impl::fast_slice_marked(const SliceModel& m, const Placement& pl,
   return true;
 }
 
-bool Slicer::Impl::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+bool Slicer::Impl::cut_upper(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
                              int from) {
   const int fr = m.dim_ - 1;
   const int top = m.top_;
   // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
   // increasing id order within each touched cluster, so the order is that of a full scan.
   for (int k = from; k <= top; ++k) {
-    const SliceModel::Rank& R = m.ranks_[k];
+    const SliceModel::Compiled::Rank& R = m.ranks_[k];
     const std::size_t count = R.offsets.size() - 1;
     std::vector<std::uint64_t>& bits = mark_[k];
     // (rank k - 1 is complete: its images and terms stay put while rank k is cut)
@@ -658,7 +661,7 @@ bool Slicer::Impl::cut_upper(const SliceModel& m, const Placement& pl, SliceBuff
   return finish_fast(m, pl, out, section_edge_, facet_internal_);
 }
 
-void Slicer::Impl::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::remember(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out) {
   out.cache_model_ = m.serial_;
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
@@ -673,8 +676,8 @@ void Slicer::Impl::remember(const SliceModel& m, const Placement& pl, SliceBuffe
   out.cache_valid_ = true;
 }
 
-bool Slicer::Impl::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                               std::span<const std::uint32_t> section_edge,
+bool Slicer::Impl::finish_fast(const SliceModel::Compiled& m, const Placement& pl,
+                               SliceBuffers& out, std::span<const std::uint32_t> section_edge,
                                std::span<const std::uint32_t> facet_internal) {
   const int n = m.dim_;
   // Orientation as section(): the facets' cuts face outward for even n, inward for odd n, and
@@ -799,8 +802,8 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
 
 }  // namespace
 
-bool Slicer::Impl::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                                  std::span<const std::uint32_t> section_edge,
+bool Slicer::Impl::write_geometry(const SliceModel::Compiled& m, const Placement& pl,
+                                  SliceBuffers& out, std::span<const std::uint32_t> section_edge,
                                   std::span<const std::uint32_t> facet_internal, bool facets) {
   const int n = m.dim_;
   const int o = n - 1;
@@ -820,8 +823,8 @@ bool Slicer::Impl::write_geometry(const SliceModel& m, const Placement& pl, Slic
   return true;
 }
 
-bool Slicer::Impl::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                         SliceBuffers& out) {
+bool Slicer::Impl::reuse(const SliceModel::Compiled& m, const Placement& pl,
+                         const SliceOptions& options, SliceBuffers& out) {
   if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
     return false;
   const int n = m.dim_;

@@ -14,12 +14,12 @@ namespace cw4d {
 class Slicer::Impl {
  public:
   // --- what Slicer forwards to -------------------------------------------------------------
-  void slice(const SliceModel& model, const Hyperplane& plane,
+  void slice(const SliceModel::Compiled& model, const Hyperplane& plane,
              const AffineTransform& model_to_world, SliceBuffers& out,
              const SliceOptions& options = {});
-  void slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
+  void slice(const SliceModel::Compiled& model, const Hyperplane& plane, SliceBuffers& out,
              const SliceOptions& options = {});
-  void sweep(const SliceModel& model, const Eigen::VectorXd& normal,
+  void sweep(const SliceModel::Compiled& model, const Eigen::VectorXd& normal,
              std::span<const double> offsets, const AffineTransform& model_to_world,
              std::vector<SliceBuffers>& out, unsigned threads = 1);
 
@@ -36,46 +36,47 @@ class Slicer::Impl {
     int sign;
     bool used;
   };
-  bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+  bool fast_slice(const SliceModel::Compiled& m, const Placement& pl, const SliceOptions& options,
                   SliceBuffers& out);
-  void prepare(const SliceModel& m);
-  void size_images(const SliceModel& m);  // (prepare leaves ranks 1, 2 to it in R^4)
-  void clear_marks(const SliceModel& m);
-  void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
-  void start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
+  void prepare(const SliceModel::Compiled& m);
+  void size_images(const SliceModel::Compiled& m);  // (prepare leaves ranks 1, 2 to it in R^4)
+  void clear_marks(const SliceModel::Compiled& m);
+  void start_buffers(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out);
+  void start_kernel_buffers(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out);
   // The crossing parameter of edge e from s_; false when it lies within the weld distance of
   // an end (the general path welds it).
-  bool crossing(const SliceModel& m, std::uint32_t e, double* t) const;
-  bool add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out);
-  bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from = 2);
+  bool crossing(const SliceModel::Compiled& m, std::uint32_t e, double* t) const;
+  bool add_crossing(const SliceModel::Compiled& m, std::uint32_t e, SliceBuffers& out);
+  bool cut_upper(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
+                 int from = 2);
   // The specialised kernel of a slice in R^4 (after the vertex pass): 1 when it made the
   // buffers, 0 when the slice needs the general path (reason_ set), -1 when it met something
   // only the generic gathering decides (the caller clears the marks and runs that instead).
   // marked_edges: the crossing edges are those marked in mark_[1] (a sweep's active edges).
-  int kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+  int kernel_slice(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
                    bool marked_edges = false);
-  bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
+  bool reuse(const SliceModel::Compiled& m, const Placement& pl, const SliceOptions& options,
              SliceBuffers& out);
-  void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                    SliceBuffers& out, const SliceOptions& options);
-  void general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                     SliceBuffers& out);
-  bool emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
+  void slice_placed(const SliceModel::Compiled& m, const Hyperplane& plane,
+                    const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options);
+  void general_slice(const SliceModel::Compiled& m, const Hyperplane& plane,
+                     const AffineTransform& xf, SliceBuffers& out);
+  bool emit_element(const SliceModel::Compiled& m, int k, std::uint32_t x, SliceBuffers& out,
                     std::vector<std::uint32_t>& facets, std::vector<Term>& image);
   bool emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
                   std::vector<Term>& image);
-  bool finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+  bool finish_fast(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
                    std::span<const std::uint32_t> section_edge,
                    std::span<const std::uint32_t> facet_internal);
   // The section vertices' positions and (facets: true) the facet normals of facet_internal;
   // facets: false leaves out.facet_normals as it is (a sweep writes them itself).
-  bool write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
+  bool write_geometry(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
                       std::span<const std::uint32_t> section_edge,
                       std::span<const std::uint32_t> facet_internal, bool facets = true);
-  void remember(const SliceModel& m, const Placement& pl, SliceBuffers& out);
-  void sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                    std::span<const double> offsets, std::span<const std::uint32_t> layers,
-                    std::vector<SliceBuffers>& out);
+  void remember(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out);
+  void sweep_layers(const SliceModel::Compiled& m, const Hyperplane& plane,
+                    const AffineTransform& xf, std::span<const double> offsets,
+                    std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out);
 
   std::uint32_t gen_ = 0;
   // tol::near_parallel_edge * |A^T n|: a crossing edge with |s_a - s_b| below this times its
@@ -89,9 +90,9 @@ class Slicer::Impl {
   std::vector<Step> steps_;
   std::vector<std::uint32_t> touched_;
   std::vector<std::vector<std::uint64_t>> mark_;  // mark_[k]: rank k elements to visit (bits)
-  void mark_parents(const SliceModel& m, int k, std::uint32_t x);
-  bool fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                         SliceBuffers& out);
+  void mark_parents(const SliceModel::Compiled& m, int k, std::uint32_t x);
+  bool fast_slice_marked(const SliceModel::Compiled& m, const Placement& pl,
+                         const SliceOptions& options, SliceBuffers& out);
   std::vector<std::uint32_t> section_edge_;    // internal model edge of each section vertex
   std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
   std::vector<std::uint32_t> row_ids_;
@@ -138,20 +139,21 @@ class Slicer::Impl {
     std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
   };
   SweepState sweep_;
-  void sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
+  void sweep_events(const SliceModel::Compiled& m, Placement& pl, std::span<const double> offsets,
                     std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
                     const AffineTransform& xf, const Hyperplane& plane);
-  void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
+  void sweep_update(const SliceModel::Compiled& m, std::span<const std::uint32_t> moved,
+                    bool rebuild);
   // slice() from the normal's part of the placement on (made by slice_placed, or cached by a
   // SceneSlicer); xf == nullptr: the identity.
-  void slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
+  void slice_with(const SliceModel::Compiled& m, Placement& pl, const Hyperplane& plane,
                   const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options);
-  void general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                    SliceBuffers& out);
-  std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
-  std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
-  void sweep_incidences(const SliceModel& m);
-  void sweep_normals(const SliceModel& m, const Placement& pl);
+  void general_from(const SliceModel::Compiled& m, const Hyperplane& plane,
+                    const AffineTransform* xf, SliceBuffers& out);
+  std::uint8_t sweep_face(const SliceModel::Compiled& m, std::uint32_t f);
+  std::uint8_t sweep_cell(const SliceModel::Compiled& m, std::uint32_t c);
+  void sweep_incidences(const SliceModel::Compiled& m);
+  void sweep_normals(const SliceModel::Compiled& m, const Placement& pl);
   std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
   FallbackReason reason_ = FallbackReason::None;
   bool fail(FallbackReason r) {
