@@ -50,7 +50,6 @@ enum class FallbackReason : std::uint8_t {
 };
 inline constexpr int kFallbackReasonCount = 8;
 const char* to_string(FallbackReason r);
-#define CW4D_SLICE_FALLBACK_REASON 1
 
 struct SliceModelOptions {
   /// Models with at least this many facets are split into clusters of cells for culling.
@@ -238,7 +237,6 @@ struct SceneSlice {
   std::vector<SliceBuffers> buffers;   ///< buffers[k]: the section of object objects[k]
   std::size_t size() const { return objects.size(); }
 };
-#define CW4D_SCENE_SLICE 1
 
 /// One Section per object of a scene of `count` objects: to_section of its buffers for the
 /// objects in slice.objects (each below count), the empty section in the frame of slice.plane
