@@ -360,10 +360,106 @@ bool Slicer::Impl::add_crossing(const SliceModel::Compiled& m, std::uint32_t e, 
   out.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
   section_edge_.push_back(e);
   images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
-  terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
+  terms_[1].push_back({v, side_[a] == Side::Negative ? 1 : -1});
   mark_parents(m, 1, e);
   return true;
 }
+
+namespace {
+
+// The R^4 vertex pass over every vertex: the signed value n.x - d of vertices [v, nv) (four
+// coordinates each in P), summed in the fixed order of slicer_detail::height, into sv, and
+// their sides into sd; true when one is on the plane (within tol). The scalar form, which also
+// finishes what classify_vertices_r4_sse2 leaves.
+bool classify_vertices_r4_scalar(const double* P, std::uint32_t v, std::uint32_t nv,
+                                 const double* nm, double dm, double tol, double* sv, Side* sd) {
+  const double n0 = nm[0], n1 = nm[1], n2 = nm[2], n3 = nm[3];
+  bool on = false;
+  for (; v < nv; ++v) {
+    const double* x = P + 4 * v;
+    double h = n0 * x[0];
+    h += n1 * x[1];
+    h += n2 * x[2];
+    h += n3 * x[3];
+    const double sval = h - dm;
+    const std::int8_t sgn = static_cast<std::int8_t>((sval > tol) - (sval < -tol));
+    sv[v] = sval;
+    sd[v] = static_cast<Side>(sgn);
+    on |= sgn == 0;
+  }
+  return on;
+}
+
+#if defined(__SSE2__)
+// classify_vertices_r4_scalar for the vertices [0, *done), two per register, each lane the same
+// operations in the same order (the same bits); eight vertices' sides are packed to bytes and
+// stored at once. A side is the difference of the comparison masks (-1 below, 1 above, 0 on the
+// plane). *done: the first vertex left to the scalar form.
+bool classify_vertices_r4_sse2(const double* P, std::uint32_t nv, const double* nm, double dm,
+                               double tol, double* sv, Side* side_out, std::uint32_t* done) {
+  std::int8_t* const sd = reinterpret_cast<std::int8_t*>(side_out);  // (Side is one signed byte)
+  const double n0 = nm[0], n1 = nm[1], n2 = nm[2], n3 = nm[3];
+  std::uint32_t v = 0;
+  const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
+                c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
+                lo = _mm_set1_pd(-tol);
+  // Two vertices per lane pair, each lane the same operations in the same order (same
+  // bits); eight vertices' sides packed to bytes and stored at once. A side is the
+  // difference of the comparison masks (-1 below, 1 above, 0 on the plane).
+  const auto values = [&](std::uint32_t w) {
+    const double* x = P + 4 * w;
+    const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
+    const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
+    __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
+    h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
+    h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
+    h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
+    const __m128d sval = _mm_sub_pd(h, cd);
+    _mm_storeu_pd(sv + w, sval);
+    return _mm_sub_epi64(_mm_castpd_si128(_mm_cmplt_pd(sval, lo)),
+                         _mm_castpd_si128(_mm_cmpgt_pd(sval, hi)));
+  };
+  __m128i zeros = _mm_setzero_si128();  // (a byte per vertex: 0xff where on the plane)
+  for (; v + 8 <= nv; v += 8) {
+    // The low 32 bits of each 64-bit side, four vertices per register, then packed.
+    const auto low = [](__m128i a, __m128i b) {
+      return _mm_unpacklo_epi64(_mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 2, 0)),
+                                _mm_shuffle_epi32(b, _MM_SHUFFLE(3, 3, 2, 0)));
+    };
+    const __m128i s03 = low(values(v), values(v + 2));
+    const __m128i s47 = low(values(v + 4), values(v + 6));
+    const __m128i w16 = _mm_packs_epi32(s03, s47);
+    const __m128i b8 = _mm_packs_epi16(w16, w16);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(sd + v), b8);
+    zeros = _mm_or_si128(zeros, _mm_cmpeq_epi8(b8, _mm_setzero_si128()));
+  }
+  int on_bits = _mm_movemask_epi8(zeros) & 0xff;
+  for (; v + 2 <= nv; v += 2) {
+    const __m128i sides = values(v);
+    const int s0 = _mm_cvtsi128_si32(sides);
+    const int s1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(sides, _MM_SHUFFLE(3, 3, 3, 2)));
+    sd[v] = static_cast<std::int8_t>(s0);
+    sd[v + 1] = static_cast<std::int8_t>(s1);
+    on_bits |= (s0 == 0) | (s1 == 0);
+  }
+  *done = v;
+  return on_bits != 0;
+}
+#endif
+
+// The vertex pass of an R^4 slice that touches every vertex, without early exits: the values
+// and sides `value` in fast_slice_marked gives, SSE2 where there is SSE2.
+bool classify_vertices_r4(const double* P, std::uint32_t nv, const double* nm, double dm,
+                          double tol, double* sv, Side* sd) {
+  std::uint32_t v = 0;
+  bool on = false;
+#if defined(__SSE2__)
+  on = classify_vertices_r4_sse2(P, nv, nm, dm, tol, sv, sd, &v);
+#endif
+  return classify_vertices_r4_scalar(P, v, nv, nm, dm, tol, sv, sd) || on;
+}
+
+}  // namespace
 
 bool Slicer::Impl::fast_slice_marked(const SliceModel::Compiled& m, const Placement& pl,
                                      const SliceOptions& options, SliceBuffers& out) {
@@ -381,78 +477,14 @@ bool Slicer::Impl::fast_slice_marked(const SliceModel::Compiled& m, const Placem
     const double s = height(pl.nm, P + v * n, n) - pl.dm;
     const Side side = classify_side(s, pl.tol);
     s_[v] = s;
-    side_[v] = static_cast<std::int8_t>(side);
+    side_[v] = side;
     return side != Side::On;  // on the plane: symbolic perturbation, the general path
   };
   if (touched_.size() == nc && n == 4) {
     // Every vertex (each belongs to a cluster): one pass without early exits, the same values
     // and sides as `value` gives.
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
-    const double n0 = pl.nm[0], n1 = pl.nm[1], n2 = pl.nm[2], n3 = pl.nm[3], dm = pl.dm;
-    const double tol = pl.tol;
-    double* sv = s_.data();
-    std::int8_t* sd = side_.data();
-    bool on = false;
-    std::uint32_t v = 0;
-#if defined(__SSE2__)
-    {
-      const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
-                    c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
-                    lo = _mm_set1_pd(-tol);
-      // Two vertices per lane pair, each lane the same operations in the same order (same
-      // bits); eight vertices' sides packed to bytes and stored at once. A side is the
-      // difference of the comparison masks (-1 below, 1 above, 0 on the plane).
-      const auto values = [&](std::uint32_t w) {
-        const double* x = P + 4 * w;
-        const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
-        const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
-        __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
-        h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
-        h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
-        h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
-        const __m128d sval = _mm_sub_pd(h, cd);
-        _mm_storeu_pd(sv + w, sval);
-        return _mm_sub_epi64(_mm_castpd_si128(_mm_cmplt_pd(sval, lo)),
-                             _mm_castpd_si128(_mm_cmpgt_pd(sval, hi)));
-      };
-      __m128i zeros = _mm_setzero_si128();  // (a byte per vertex: 0xff where on the plane)
-      for (; v + 8 <= nv; v += 8) {
-        // The low 32 bits of each 64-bit side, four vertices per register, then packed.
-        const auto low = [](__m128i a, __m128i b) {
-          return _mm_unpacklo_epi64(_mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 2, 0)),
-                                    _mm_shuffle_epi32(b, _MM_SHUFFLE(3, 3, 2, 0)));
-        };
-        const __m128i s03 = low(values(v), values(v + 2));
-        const __m128i s47 = low(values(v + 4), values(v + 6));
-        const __m128i w16 = _mm_packs_epi32(s03, s47);
-        const __m128i b8 = _mm_packs_epi16(w16, w16);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(sd + v), b8);
-        zeros = _mm_or_si128(zeros, _mm_cmpeq_epi8(b8, _mm_setzero_si128()));
-      }
-      int on_bits = _mm_movemask_epi8(zeros) & 0xff;
-      for (; v + 2 <= nv; v += 2) {
-        const __m128i sides = values(v);
-        const int s0 = _mm_cvtsi128_si32(sides);
-        const int s1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(sides, _MM_SHUFFLE(3, 3, 3, 2)));
-        sd[v] = static_cast<std::int8_t>(s0);
-        sd[v + 1] = static_cast<std::int8_t>(s1);
-        on_bits |= (s0 == 0) | (s1 == 0);
-      }
-      on = on_bits != 0;
-    }
-#endif
-    for (; v < nv; ++v) {
-      const double* x = P + 4 * v;
-      double h = n0 * x[0];
-      h += n1 * x[1];
-      h += n2 * x[2];
-      h += n3 * x[3];
-      const double sval = h - dm;
-      const std::int8_t sgn = static_cast<std::int8_t>((sval > tol) - (sval < -tol));
-      sv[v] = sval;
-      sd[v] = sgn;
-      on |= sgn == 0;
-    }
+    const bool on = classify_vertices_r4(P, static_cast<std::uint32_t>(m.nv_), pl.nm, pl.dm, pl.tol,
+                                         s_.data(), side_.data());
     if (on) return fail(FallbackReason::OnPlane);
   } else if (touched_.size() == nc && nc > 1) {
     const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
@@ -463,9 +495,9 @@ bool Slicer::Impl::fast_slice_marked(const SliceModel::Compiled& m, const Placem
       if (!m.each_cluster_vertex(c, value)) return fail(FallbackReason::OnPlane);
   }
   if (kernel_ && n == 4 && m.top_ >= 3) {
-    const int done = kernel_slice(m, pl, out);
-    if (done == 0) return false;
-    if (done > 0) {
+    const KernelResult done = kernel_slice(m, pl, out);
+    if (done == KernelResult::General) return false;
+    if (done == KernelResult::Done) {
       if (options.reuse_topology) remember(m, pl, out);
       ++fast_count_;
       return true;
@@ -667,7 +699,7 @@ void Slicer::Impl::remember(const SliceModel::Compiled& m, const Placement& pl, 
   out.cache_side_.clear();
   for (auto c : touched_)
     m.each_cluster_vertex(c, [&](std::uint32_t v) {
-      out.cache_side_.push_back(side_[v]);
+      out.cache_side_.push_back(static_cast<std::int8_t>(side_[v]));
       return true;
     });
   out.cache_edge_ = section_edge_;

@@ -49,12 +49,14 @@ class Slicer::Impl {
   bool add_crossing(const SliceModel::Compiled& m, std::uint32_t e, SliceBuffers& out);
   bool cut_upper(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
                  int from = 2);
-  // The specialised kernel of a slice in R^4 (after the vertex pass): 1 when it made the
-  // buffers, 0 when the slice needs the general path (reason_ set), -1 when it met something
-  // only the generic gathering decides (the caller clears the marks and runs that instead).
-  // marked_edges: the crossing edges are those marked in mark_[1] (a sweep's active edges).
-  int kernel_slice(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
-                   bool marked_edges = false);
+  // What the R^4 kernel made of a slice: the buffers (Done), a slice for the general path
+  // (General, reason_ set), or something only the generic gathering decides (Generic: the
+  // caller clears the marks and runs that instead).
+  enum class KernelResult : std::uint8_t { Done, General, Generic };
+  // The specialised kernel of a slice in R^4 (after the vertex pass). marked_edges: the
+  // crossing edges are those marked in mark_[1] (a sweep's active edges).
+  KernelResult kernel_slice(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
+                            bool marked_edges = false);
   bool reuse(const SliceModel::Compiled& m, const Placement& pl, const SliceOptions& options,
              SliceBuffers& out);
   void slice_placed(const SliceModel::Compiled& m, const Hyperplane& plane,
@@ -83,7 +85,7 @@ class Slicer::Impl {
   // length is nearly parallel to the plane, left to the general path (section_general).
   double near_parallel_ = 0.0;
   std::vector<double> s_;
-  std::vector<std::int8_t> side_;
+  std::vector<Side> side_;  // per vertex, Negative or Positive (On leaves the fast path)
   std::vector<std::vector<Image>> images_;  // images_[k][internal element of rank k]
   std::vector<std::vector<Term>> terms_;    // terms_[k]: storage of the images of rank k
   std::vector<Term> chain_, image_;

@@ -193,8 +193,8 @@ void Slicer::Impl::sweep_layers(const SliceModel::Compiled& m, const Hyperplane&
       const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
       s_[a] = height_[a] - d;
       s_[b] = height_[b] - d;
-      side_[a] = s_[a] < 0.0 ? -1 : 1;
-      side_[b] = s_[b] < 0.0 ? -1 : 1;
+      side_[a] = s_[a] < 0.0 ? Side::Negative : Side::Positive;
+      side_[b] = s_[b] < 0.0 ? Side::Negative : Side::Positive;
       edge_bits[e >> 6] |= std::uint64_t{1} << (e & 63);
     }
     start_buffers(m, pl, o);
@@ -409,7 +409,7 @@ std::uint8_t Slicer::Impl::sweep_face(const SliceModel::Compiled& m, std::uint32
   SweepState& w = sweep_;
   const SliceModel::Compiled::Rank& F = m.ranks_[2];
   const SweepSlot* entries = w.face_entries.data();
-  const std::int8_t* side = side_.data();
+  const Side* side = side_.data();
   std::uint32_t e[2];
   int coef[2];
   int cnt = 0;
@@ -417,7 +417,9 @@ std::uint8_t Slicer::Impl::sweep_face(const SliceModel::Compiled& m, std::uint32
         if (cnt == 2) return false;
         const SweepSlot x = entries[i];
         // (the signs are +-1: the model has unit signs)
-        coef[cnt] = (side[x.index & ~kSweepFlip] < 0) != ((x.index & kSweepFlip) != 0) ? -1 : 1;
+        coef[cnt] = (side[x.index & ~kSweepFlip] == Side::Negative) != ((x.index & kSweepFlip) != 0)
+                        ? -1
+                        : 1;
         e[cnt++] = x.element;
         return true;
       }))
@@ -538,7 +540,7 @@ void Slicer::Impl::sweep_update(const SliceModel::Compiled& m, std::span<const s
   const std::uint32_t nf = static_cast<std::uint32_t>(m.ranks_[2].offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
-  const std::int8_t* side = side_.data();
+  const Side* side = side_.data();
   const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_f, &w.stamp_c});
   const SweepSlot* edge_faces = w.edge_faces.data();
   const std::uint32_t* edge_face_offsets = w.edge_face_offsets.data();
@@ -759,14 +761,16 @@ void Slicer::Impl::sweep_events(const SliceModel::Compiled& m, Placement& pl,
     const std::uint32_t to = lv[j + 1];
     const bool rebuild = !valid || 4 * std::size_t{to - below} > nv;
     if (restore && !rebuild) {  // the structure's sides again
-      for (std::uint32_t i = 0; i < nv; ++i) side_[w.by_layer[i]] = i < below ? -1 : 1;
+      for (std::uint32_t i = 0; i < nv; ++i)
+        side_[w.by_layer[i]] = i < below ? Side::Negative : Side::Positive;
     }
     restore = false;
     if (rebuild) {
-      for (std::uint32_t v = 0; v < nv; ++v) side_[v] = H[v] - d < 0.0 ? -1 : 1;
+      for (std::uint32_t v = 0; v < nv; ++v)
+        side_[v] = H[v] - d < 0.0 ? Side::Negative : Side::Positive;
     } else {
       moved.assign(w.by_layer.begin() + below, w.by_layer.begin() + to);
-      for (std::uint32_t v : moved) side_[v] = -1;
+      for (std::uint32_t v : moved) side_[v] = Side::Negative;
     }
     if (rebuild || to != below) {
       sweep_update(m, moved, rebuild);
