@@ -1,26 +1,14 @@
 #pragma once
-// The hot path of the section: a model compiled once into flat arrays (SliceModel), a Slicer
-// that owns every scratch buffer, and flat output (SliceBuffers) whose storage is reused from
-// slice to slice, so that after the first slices of a model no memory is allocated. On top of
-// it: bounding-sphere and cell-cluster culling, a topology cache for animation frames, sweeps of
-// parallel planes in one pass, and threads. Every one of these gives exactly (bit for bit) the
-// buffers of the plain call Slicer::slice(model, plane, xf, out); section() itself is
-// to_section() of that call.
+// The hot path of the section: a model compiled once (SliceModel), a Slicer that owns every
+// scratch buffer, and flat output (SliceBuffers) whose storage is reused, so that after the
+// first slices of a model no memory is allocated. Culling, the topology cache for animation
+// frames, sweeps and threads all give exactly (bit for bit) the buffers of the plain call
+// Slicer::slice(model, plane, xf, out); section() is to_section() of that call.
 //
-// How a slice stays cheap: the plane is moved into model space; the signed value of a vertex is
-// its height n.x (summed in a fixed order) minus d, computed only for the vertices of clusters
-// whose bounding sphere meets the plane; each crossing edge marks the faces above it (coface
-// lists), each cut face the cells above it, so only elements a crossing reaches are visited,
-// in increasing id order (bit marks), which is the order a full scan would give.
-//
-// The fast path covers valid complexes in R^3 and R^4 with facet normals whose faces are cut
-// in at most two points (convex faces; cells may be non-convex). Anything else goes through the
-// general layered cut (section_general), whose result is copied into the buffers
-// (SliceBuffers::general is then true): vertices on the plane, crossings within the weld
-// distance of a vertex, faces cut in more than two points, cell cuts whose loops pinch (a
-// vertex starting two steps) or do not close, multiplicities other than 1, sections of facets
-// nearly parallel to the plane (projected normal below 1e-9), models without facet normals or
-// with elements bounding nothing above them, models of other dimensions.
+// The fast path covers valid complexes in R^3 and R^4 with facet normals whose faces are cut in
+// at most two points (cells may be non-convex). Anything else goes through the general layered
+// cut (section_general), whose result is copied into the buffers: SliceBuffers::general is then
+// true and SliceBuffers::fallback says why.
 #include <Eigen/Core>
 
 #include <cstdint>
