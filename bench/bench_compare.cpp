@@ -167,7 +167,6 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
   }
   if (tets && wanted(label + "/tet")) {
     const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
-#if defined(CW4D_TET_SLICE_INDEXED)
     // The indexed form (one vertex per crossing edge): the same triangles, normals, uvw and
     // provenance as the soup the older code writes (to_soup gives that soup; "tet-soup" times it).
     cw4d::TetSliceMesh tm;
@@ -182,22 +181,7 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
              g_sink += ts.triangle_count();
            }),
            static_cast<double>(mesh.size()));
-#elif defined(CW4D_TET_SLICE_INTO)
-    cw4d::TetSection ts;
-    report(label + "/tet", time_per_op([&](std::size_t i) {
-             cw4d::slice_tets(mesh, planes[i % planes.size()], ts);
-             g_sink += ts.triangle_count();
-           }),
-           static_cast<double>(mesh.size()));
-#else
-    report(label + "/tet", time_per_op([&](std::size_t i) {
-             const cw4d::TetSection ts = cw4d::slice_tets(mesh, planes[i % planes.size()]);
-             g_sink += ts.triangle_count();
-           }),
-           static_cast<double>(mesh.size()));
-#endif
   }
-#ifdef CW4D_SLICE_FALLBACK_REASON
   // Why slices of the generic planes and of the planes through vertices took the general path.
   std::size_t counts[cw4d::kFallbackReasonCount] = {};
   for (const auto& p : planes)
@@ -209,7 +193,6 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
     if (counts[r])
       std::printf(" %s=%zu", cw4d::to_string(static_cast<cw4d::FallbackReason>(r)), counts[r]);
   std::printf("\n");
-#endif
 }
 
 // 10^4 tesseracts and 24-cells, each turned by six seeded plane rotations, scattered in a box.
@@ -235,19 +218,11 @@ cw4d::Scene scattered_scene(std::size_t count, const double box[4], std::uint32_
   return scene;
 }
 
-// The output of SceneSlicer::slice: the touched objects' sections (newer trees) or one entry
-// per object.
-#ifdef CW4D_SCENE_SLICE
+// The output of SceneSlicer::slice: the touched objects' sections.
 using SceneOutput = cw4d::SceneSlice;
 std::size_t entries(const SceneOutput& out) {
   return out.buffers.size();
 }
-#else
-using SceneOutput = std::vector<cw4d::SliceBuffers>;
-std::size_t entries(const SceneOutput& out) {
-  return out.size();
-}
-#endif
 
 void run_scene() {
   if (!wanted("scene1pct/cull") && !wanted("scene1pct/touched") && !wanted("scene1pct/pairs"))

@@ -64,16 +64,8 @@ int main(int argc, char** argv) {
       for (const auto& p : planes) sink += cw4d::section(model, p).vertex_source.size();
   } else if (mode == "tet") {
     const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
-#if defined(CW4D_TET_SLICE_INDEXED)
     cw4d::TetSliceMesh out;
     auto cut = [&](const cw4d::Hyperplane& p) { cw4d::slice_tets(mesh, p, out); };
-#elif defined(CW4D_TET_SLICE_INTO)
-    cw4d::TetSection out;
-    auto cut = [&](const cw4d::Hyperplane& p) { cw4d::slice_tets(mesh, p, out); };
-#else
-    cw4d::TetSection out;
-    auto cut = [&](const cw4d::Hyperplane& p) { out = cw4d::slice_tets(mesh, p); };
-#endif
     cut(planes[0]);
     for (int r = 0; r < rounds; ++r)
       for (const auto& p : planes) {

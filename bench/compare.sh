@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Old/new ratios of the section, tet and sweep benchmarks (bench/bench_compare.cpp).
 #
-#   bench/compare.sh [REF] [ROUNDS] [MIN_TIME]      (defaults: 1da183a, 3, 0.25)
+#   bench/compare.sh [REF] [ROUNDS] [MIN_TIME]      (defaults: efc0dc1, 3, 0.25)
 #
 # Builds REF in a temporary git worktree and the working tree (Release, Ninja, ccache), both
-# with the working tree's bench_compare.cpp (it uses only API both have), runs the two programs
+# with the working tree's bench_compare.cpp (it uses the API as of efc0dc1, with no feature macros:
+# REF must be efc0dc1 or later), runs the two programs
 # in alternating rounds (old, new, old, new, ...) and prints per case the median time of each
 # and old/new. Nothing outside the checkout and /tmp is written; the worktree is removed.
 # BENCH_MODELS="tesseract/ 600-cell/" restricts the models (case name prefixes).
@@ -15,7 +16,7 @@
 # COMPARE_DIR=/tmp/somewhere keeps REF's worktree and build there for later runs (only the
 # benchmark itself is recompiled); remove it with `git worktree remove --force DIR/old`.
 set -euo pipefail
-ref=${1:-1da183a}
+ref=${1:-efc0dc1}
 rounds=${2:-3}
 min_time=${3:-0.25}
 root=$(cd "$(dirname "$0")/.." && pwd)

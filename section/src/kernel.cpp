@@ -22,6 +22,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
@@ -58,6 +59,36 @@ constexpr std::array<std::array<std::int8_t, 4>, 16> make_sign_bytes() {
 
 constexpr std::array<std::array<std::int8_t, 4>, 16> kSignBytes = make_sign_bytes();
 
+// Writes x + pos[i] for the eight places pos[0..7] to list[0..7] (a word of marks lists its
+// nonzero ones through the byte table: the places past their count are written and dropped).
+inline void write_byte_positions_scalar(const std::uint8_t* pos, std::uint32_t x,
+                                        std::uint32_t* list) {
+  for (int i = 0; i < 8; ++i) list[i] = x + pos[i];
+}
+
+#if defined(__SSE2__)
+// write_byte_positions_scalar with two 128-bit stores.
+inline void write_byte_positions_sse2(const std::uint8_t* pos, std::uint32_t x,
+                                      std::uint32_t* list) {
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i p16 =
+      _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pos)), zero);
+  const __m128i base = _mm_set1_epi32(static_cast<int>(x));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(list),
+                   _mm_add_epi32(_mm_unpacklo_epi16(p16, zero), base));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(list + 4),
+                   _mm_add_epi32(_mm_unpackhi_epi16(p16, zero), base));
+}
+#endif
+
+inline void write_byte_positions(const std::uint8_t* pos, std::uint32_t x, std::uint32_t* list) {
+#if defined(__SSE2__)
+  write_byte_positions_sse2(pos, x, list);
+#else
+  write_byte_positions_scalar(pos, x, list);
+#endif
+}
+
 // Lists every x of [b, e) whose mark (a count of 0 to 3) is nonzero, in increasing x, zeroing
 // the marks eight at a time; returns the new end of the list, and sets odd's low bits when a
 // listed count is odd (1 or 3). Up to 8 entries past the new end may be written. A word of
@@ -79,19 +110,7 @@ inline std::uint32_t* list_marks(std::uint8_t* marks, std::uint32_t b, std::uint
     // One bit per nonzero mark (bit 1 of a count folded onto bit 0), gathered into a byte.
     const std::uint64_t nz = (w | (w >> 1)) & kLow;
     const unsigned mask = static_cast<unsigned>((nz * 0x0102040810204080u) >> 56);
-    const std::uint8_t* const pos = kByteLists.pos[mask];
-#if defined(__SSE2__)
-    const __m128i zero = _mm_setzero_si128();
-    const __m128i p16 =
-        _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pos)), zero);
-    const __m128i base = _mm_set1_epi32(static_cast<int>(x));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(list),
-                     _mm_add_epi32(_mm_unpacklo_epi16(p16, zero), base));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(list + 4),
-                     _mm_add_epi32(_mm_unpackhi_epi16(p16, zero), base));
-#else
-    for (int i = 0; i < 8; ++i) list[i] = x + pos[i];
-#endif
+    write_byte_positions(kByteLists.pos[mask], x, list);
     list += kByteLists.count[mask];
   }
   for (; x < e; ++x)
@@ -102,7 +121,7 @@ inline std::uint32_t* list_marks(std::uint8_t* marks, std::uint32_t b, std::uint
 // Lists the edges e0 <= e < e1 whose ends have different sides from list[count] on; returns the
 // new count. Every edge is written and the count advanced past the crossing ones: no branch
 // (which edges cross is unpredictable).
-inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const std::int8_t* side,
+inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* side,
                                     std::uint32_t e0, std::uint32_t e1, std::uint32_t* list,
                                     std::uint32_t count) {
   const std::uint32_t* ends = edge_ends + 2 * std::size_t{e0};
@@ -121,7 +140,7 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const std::i
 // every pointer kept in memory.
 template <class CrossingTest>
 bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::uint32_t* edge_ends,
-                    const std::int8_t* side, const double* s, const CrossingTest& near_general,
+                    const Side* side, const double* s, const CrossingTest& near_general,
                     const std::uint32_t* edge_model, VertexSource* vs, std::uint32_t* vertex_edge,
                     const std::uint32_t* up_offsets, const std::uint32_t* up_ids,
                     std::uint32_t stride, std::uint8_t* face_count, std::uint32_t* face_ends,
@@ -137,7 +156,7 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
     vertex_edge[v] = e;
     // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
     // cut that times the edge's sign there (the coface's top bit: -1).
-    const std::uint32_t tail_above = side[a] < 0 ? 0u : kFlip;
+    const std::uint32_t tail_above = side[a] == Side::Negative ? 0u : kFlip;
     const std::uint32_t j0 = stride ? e * stride : up_offsets[e];
     const std::uint32_t j1 = stride ? j0 + stride : up_offsets[e + 1];
     for (std::uint32_t j = j0; j < j1; ++j) {
@@ -213,6 +232,68 @@ inline bool chain_fixed(const std::uint32_t* faces, const std::int8_t* signs, st
   *added = ns;
   return !bad && closed == ns;
 }
+
+// A tetrahedron's polygon: the model's table (tet_cases, 16 entries per cell, decided when the
+// model was compiled by the generic gathering's rules) for the sides of its four vertices tv;
+// only its faces' section edges (face_edge of cell_faces) are read. Writes four entries (a
+// triangle's fourth is dropped) and returns the polygon's length, 3 or 4, or 7 when the table
+// leaves the cell to the generic gathering.
+template <class SideT>
+inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* tet_cases,
+                                 const SideT* side, const std::uint32_t* cell_faces,
+                                 const std::uint32_t* face_edge, std::uint32_t* ids,
+                                 std::int8_t* signs) {
+  const std::uint32_t pattern = static_cast<std::uint32_t>(side[tv[0]] == SideT::Positive) |
+                                static_cast<std::uint32_t>(side[tv[1]] == SideT::Positive) << 1 |
+                                static_cast<std::uint32_t>(side[tv[2]] == SideT::Positive) << 2 |
+                                static_cast<std::uint32_t>(side[tv[3]] == SideT::Positive) << 3;
+  const std::uint32_t code = tet_cases[pattern];
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    const std::uint32_t entry = code >> (3 + 3 * k);
+    ids[k] = face_edge[cell_faces[entry & 3u]];
+  }
+  // The four signs (bit 2 of each entry: -1) as four bytes at once.
+  const std::uint32_t minus =
+      ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
+  std::memcpy(signs, &kSignBytes[minus], 4);
+  return code & 7u;
+}
+
+// The polygon of a cut cell of more than four faces from the ns steps its cut faces left in its
+// bucket: each step is entered in a map by its tail (step, stamped with st so that the map is
+// never cleared), then the loop is followed from the smallest tail and written to ids/signs
+// (*added entries). False for a pinch (two steps from one vertex, or a face listed twice), an
+// open chain, several loops or fewer than three steps: the generic gathering decides those.
+template <class CellStepT, class LoopStepT>
+inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step, std::uint32_t st,
+                         std::uint32_t* ids, std::int8_t* signs, std::uint32_t* added) {
+  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  std::uint32_t lo = 0xffffffffu;
+  bool pinch = false;
+  for (std::uint32_t k = 0; k < ns; ++k) {
+    const CellStepT c = cs[k];
+    pinch |= step[c.tail].stamp == st;
+    step[c.tail] = {st, c.head, c.edge};
+    lo = std::min(lo, c.tail);
+  }
+  bool ok = !pinch;
+  ok = ok && ns >= 3;
+  std::uint32_t cur = lo;
+  for (std::uint32_t k = 0; ok;) {
+    const LoopStepT sp = step[cur];
+    if (sp.stamp != st) return false;  // the chain does not close
+    ids[k] = sp.edge & kIndex;
+    signs[k] = (sp.edge & kFlip) ? -1 : 1;
+    ++k;
+    cur = sp.head;
+    if (cur == lo) {
+      *added = k;
+      return k == ns;  // else several loops
+    }
+    ok = k < ns;
+  }
+  return false;
+}
 }  // namespace
 
 // Rank 2 of the kernel: a face handed two crossings of opposite coefficients gives the section
@@ -220,7 +301,7 @@ inline bool chain_fixed(const std::uint32_t* faces, const std::int8_t* signs, st
 // them, and (Buckets) hands each cell its step in the cell's bucket. Everything the loop reads
 // and writes is in locals: the byte stores of the marks would otherwise make the compiler
 // reload every pointer kept in memory.
-struct Slicer::FaceHand {
+struct Slicer::Impl::FaceHand {
   const std::uint32_t* faces;  // the cut faces, in increasing id
   std::uint32_t nse;
   const std::uint32_t* face_ends;  // per face its two crossings | coefficient bit
@@ -244,7 +325,7 @@ struct Slicer::FaceHand {
 };
 
 template <bool Buckets, std::uint32_t Stride>
-std::uint32_t Slicer::hand_faces(FaceHand& h, std::uint32_t se) {
+std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
   const std::uint32_t* const faces = h.faces;
   const std::uint32_t nse = h.nse;
@@ -321,8 +402,9 @@ std::uint32_t Slicer::hand_faces(FaceHand& h, std::uint32_t se) {
   return se;
 }
 
-int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                         bool marked_edges) {
+Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled& m,
+                                                      const Placement& pl, SliceBuffers& out,
+                                                      bool marked_edges) {
   // A section vertex per crossing edge, a section edge per face with exactly two crossings, a
   // polygon per cell whose section edges form one loop: the buffers the generic gathering
   // writes for such a slice (tested element for element), in the same order, written once.
@@ -334,16 +416,16 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   // tetrahedron only those its table names). The per-element counts double as the marks of the
   // faces and cells to visit (zero between slices: cleared when listed, or wholly when the
   // kernel stops half way).
-  if (!m.unit_signs_) return -1;  // multiplicities: the generic gathering decides
+  if (!m.unit_signs_) return KernelResult::Generic;  // multiplicities: the generic gathering
   start_kernel_buffers(m, pl, out);
-  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
-  const SliceModel::Rank& E = m.ranks_[1];
-  const SliceModel::Rank& F = m.ranks_[2];
-  const SliceModel::Rank& C = m.ranks_[3];
+  constexpr std::uint32_t kIndex = 0x7fffffffu;
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& F = m.ranks_[2];
+  const SliceModel::Compiled::Rank& C = m.ranks_[3];
   const std::uint32_t* const edge_ends = E.ids.data();
-  const std::int8_t* const side = side_.data();
+  const Side* const side = side_.data();
   const double* const s = s_.data();
-  const SliceModel::CrossingTest needs_general = m.crossing_test(near_parallel_);
+  const SliceModel::Compiled::CrossingTest needs_general = m.crossing_test(near_parallel_);
   const std::uint32_t* const edge_model = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* const face_model = F.model_id.empty() ? nullptr : F.model_id.data();
   const std::uint32_t* const cell_model = C.model_id.empty() ? nullptr : C.model_id.data();
@@ -371,20 +453,20 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     cell_fill_.resize(nc);
     cell_start_.resize(nc);
   }
-  auto stop = [this](int result) {
+  auto stop = [this](KernelResult result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
     face_edge_stale_ = false;
     return result;
   };
-  const SliceModel::Up edge_up = m.up(1), face_up = m.up(2);
+  const SliceModel::Compiled::Up edge_up = m.up(1), face_up = m.up(2);
   const std::uint32_t* const edge_up_ids = edge_up.ids;
   const std::uint32_t* const face_up_ids = face_up.ids;
-  // Rank 1: the crossings, in id order cluster by cluster, each handed to its faces with its
-  // coefficient in the face's cut (the kFlip bit: +1). The crossing edges of every touched
-  // cluster are listed first, without a branch (the sides are unpredictable), or those a sweep
-  // marked; then the outputs are sized once.
+  // Phase 1, list_crossings + hand_crossings (rank 1): the crossings, in id order cluster by
+  // cluster, each handed to its faces with its coefficient in the face's cut (the kFlip bit: +1).
+  // The crossing edges of every touched cluster are listed first, without a branch (the sides are
+  // unpredictable), or those a sweep marked; then the outputs are sized once.
   const std::size_t ne = E.count;
   if (crossing_ids_.size() < ne) crossing_ids_.resize(ne);
   std::uint32_t* const list = crossing_ids_.data();
@@ -404,7 +486,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     clear_to_empty(out, m.dim_ - 1);
     section_edge_.clear();
     facet_internal_.clear();
-    return 1;
+    return KernelResult::Done;
   }
   out.vertex_source.resize(count);
   section_edge_.resize(count);
@@ -413,11 +495,11 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
                       out.vertex_source.data(), section_edge_.data(), edge_up.offsets, edge_up_ids,
                       edge_up.stride, face_count, face_ends, &cut_faces_bound)) {
     reason_ = FallbackReason::Weld;
-    return stop(0);
+    return stop(KernelResult::General);
   }
-  // Rank 2: a face handed two crossings of opposite coefficients gives the section edge from
-  // the one with -1 to the one with +1; it keeps that edge's id for its cells and marks them.
-  // (list_marks may write 8 entries past the listed ones)
+  // Phase 2, list_marks + hand_faces (rank 2): a face handed two crossings of opposite coefficients
+  // gives the section edge from the one with -1 to the one with +1; it keeps that edge's id for its
+  // cells and marks them. (list_marks may write 8 entries past the listed ones)
   if (face_list_.size() < cut_faces_bound + 8) face_list_.resize(cut_faces_bound + 8);
   std::uint32_t* const faces = face_list_.data();
   std::uint32_t* faces_end = faces;
@@ -460,7 +542,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       h.room = cell_steps_.size();
     }
     cut_cells_bound = h.pairs;
-    if (h.bad) return stop(-1);
+    if (h.bad) return stop(KernelResult::Generic);
   }
   {
     std::uint32_t* const off = edges.offsets.data();
@@ -468,14 +550,15 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
     for (std::uint32_t i = 0; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
   }
-  // Rank 3 (the facets): a cut cell reads its faces' section edges (one step each, its
-  // direction the opposite of the face's sign in the cell); one loop through every step,
-  // followed from the smallest tail, is the polygon the generic gathering chains (loops start
-  // at the smallest tail, steps follow heads). A pinch, an open chain or several loops: the
-  // generic gathering. A tetrahedron's polygon is read from the model's table for the sides
-  // of its vertices; another cell of up to 4 faces is chained in registers at a fixed width
-  // (no branch on the cut's length), a larger one from the steps its cut faces left in its
-  // bucket through a per-section-vertex step map (stamped per cell). All decide alike.
+  // Phase 3, list_marks + tet_polygon / chain_fixed / chain_bucket (rank 3, the facets): a cut cell
+  // reads its faces' section edges (one step each, its direction the opposite of the face's sign in
+  // the cell); one loop through every step, followed from the smallest tail, is the polygon the
+  // generic gathering chains (loops start at the smallest tail, steps follow heads). A pinch, an
+  // open chain or several loops: the generic gathering. A tetrahedron's polygon is read from the
+  // model's table for the sides of its vertices; another cell of up to 4 faces is chained in
+  // registers at a fixed width (no branch on the cut's length), a larger one from the steps its cut
+  // faces left in its bucket through a per-section-vertex step map (stamped per cell). All decide
+  // alike.
   if (loop_step_.size() < count) loop_step_.resize(count, LoopStep{0, 0, 0});
   Incidence::Storage polys = out.boundary[1].storage();
   constexpr std::uint32_t kSlack = 4;  // (a fixed-width chain writes up to 4 entries)
@@ -502,7 +585,8 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
     std::uint32_t* const src = out.source[2].data();
     std::uint32_t* const facet = facet_internal_.data();
     LoopStep* const step = loop_step_.data();
-    const SliceModel::Up solid_up = above ? m.up(3) : SliceModel::Up{nullptr, nullptr, 0};
+    const SliceModel::Compiled::Up solid_up =
+        above ? m.up(3) : SliceModel::Compiled::Up{nullptr, nullptr, 0};
     const std::uint32_t* const solid_up_ids = solid_up.ids;
     std::uint64_t* const solid_bits = above ? mark_[4].data() : nullptr;
     const std::uint32_t* const cell_off = C.offsets.data();
@@ -523,60 +607,16 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
       if (tet_vertex) {
-        // A tetrahedron: its polygon for the sides of its four vertices, decided when the
-        // model was compiled; only the faces' section edges are read.
-        const std::uint32_t* const tv = tet_vertex + 4 * x;
-        const std::uint32_t pattern = static_cast<std::uint32_t>(side[tv[0]] > 0) |
-                                      static_cast<std::uint32_t>(side[tv[1]] > 0) << 1 |
-                                      static_cast<std::uint32_t>(side[tv[2]] > 0) << 2 |
-                                      static_cast<std::uint32_t>(side[tv[3]] > 0) << 3;
-        const std::uint32_t code = tet_case[16 * x + pattern];
-        for (std::uint32_t k = 0; k < 4; ++k) {  // (a triangle's fourth entry is dropped)
-          const std::uint32_t entry = code >> (3 + 3 * k);
-          poly_ids[entries + k] = face_edge[cell_faces[b + (entry & 3u)]];
-        }
-        // The four signs (bit 2 of each entry: -1) as four bytes at once.
-        const std::uint32_t minus =
-            ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
-        std::memcpy(poly_signs + entries, &kSignBytes[minus], 4);
-        added = code & 7u;
+        added = tet_polygon(tet_vertex + 4 * x, tet_case + 16 * x, side, cell_faces + b, face_edge,
+                            poly_ids + entries, poly_signs + entries);
         ok = added != 7;
       } else if (nfaces <= 4) {
         ok = chain_fixed<4>(cell_faces + b, cell_signs + b, nfaces, face_edge, edge_row,
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
-        const std::uint32_t st = stamp_;
-        const std::uint32_t ns = fill[x] - start[x];
-        const CellStep* const cs = bucket + start[x];
-        std::uint32_t lo = 0xffffffffu;
-        bool pinch = false;
-        for (std::uint32_t k = 0; k < ns; ++k) {
-          const CellStep c = cs[k];
-          pinch |= step[c.tail].stamp == st;  // a pinch (or a face listed twice)
-          step[c.tail] = {st, c.head, c.edge};
-          lo = std::min(lo, c.tail);
-        }
-        ok = !pinch;
-        ok = ok && ns >= 3;
-        std::uint32_t cur = lo;
-        for (std::uint32_t k = 0; ok;) {
-          const LoopStep sp = step[cur];
-          if (sp.stamp != st) {
-            ok = false;  // the chain does not close
-            break;
-          }
-          poly_ids[entries + k] = sp.edge & kIndex;
-          poly_signs[entries + k] = (sp.edge & kFlip) ? -1 : 1;
-          ++k;
-          cur = sp.head;
-          if (cur == lo) {
-            ok = k == ns;  // else several loops
-            added = k;
-            break;
-          }
-          ok = k < ns;
-        }
+        ok = chain_bucket(bucket + start[x], fill[x] - start[x], step, stamp_, poly_ids + entries,
+                          poly_signs + entries, &added);
       }
       if (!ok) break;
       entries += added;
@@ -595,7 +635,7 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
         }
       }
     }
-    if (!ok) return stop(-1);
+    if (!ok) return stop(KernelResult::Generic);
     if (above && m.single_solid_ && npoly > 0) solid_bits[0] |= 1u;  // (every cell's one solid)
     polys.ids.resize(entries);
     polys.signs.resize(entries);
@@ -608,7 +648,9 @@ int Slicer::kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers&
   facet_internal_.resize(npoly);
   polys.offsets.resize(std::size_t{npoly} + 1);
   kernel_count_ += nse + npoly;
-  return cut_upper(m, pl, out, 4) ? 1 : 0;  // (the rank-4 marks are the generic path's bits)
+  return cut_upper(m, pl, out, 4)
+             ? KernelResult::Done
+             : KernelResult::General;  // (the rank-4 marks are the generic path's bits)
 }
 
 }  // namespace cw4d

@@ -19,12 +19,61 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
 // --- scenes ---------------------------------------------------------------------------------
 
-SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) : dim_(scene.dim()) {
+// What a SceneSlicer keeps: the compiled models, every object's placement and bounding sphere,
+// one Slicer per thread, the buffers between calls and the placements for the last normal.
+class SceneSlicer::Impl {
+ public:
+  Impl(const Scene& scene, const SliceModelOptions& options);
+  void slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
+             const SliceOptions& options);
+
+  std::vector<std::unique_ptr<SliceModel>> models_;
+  std::vector<const SliceModel*> model_of_;  // per object
+  std::vector<AffineTransform> transforms_;  // copied: the scene may move its objects afterwards
+  std::vector<double> centres_;              // world-space bounding-sphere centres, dim_ per object
+  std::vector<double> reach_;                // their radii plus the culling margin
+  std::vector<Slicer> slicers_;
+  std::vector<std::uint32_t> touched_;
+  // Buffers between calls: those no object of the output needs (their storage kept), and the
+  // vector the output's buffers are rearranged into.
+  std::vector<SliceBuffers> spare_, arranged_;
+  std::vector<std::uint32_t> need_, left_;  // arrange()'s: new entries, held entries free
+  void arrange(SceneSlice& out);
+  struct Placements;  // the touched objects' placements for the last normal
+  std::shared_ptr<Placements> placements_;
+  int dim_ = 0;
+};
+
+SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options)
+    : impl_(std::make_unique<Impl>(scene, options)) {}
+SceneSlicer::~SceneSlicer() = default;
+SceneSlicer::SceneSlicer(SceneSlicer&&) noexcept = default;
+SceneSlicer& SceneSlicer::operator=(SceneSlicer&&) noexcept = default;
+
+std::size_t SceneSlicer::size() const {
+  return impl_->model_of_.size();
+}
+
+void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
+                        const SliceOptions& options) {
+  impl_->slice(plane, out, threads, options);
+}
+
+std::size_t SceneSlicer::touched() const {
+  return impl_->touched_.size();
+}
+
+std::span<const std::uint32_t> SceneSlicer::touched_objects() const {
+  return impl_->touched_;
+}
+
+SceneSlicer::Impl::Impl(const Scene& scene, const SliceModelOptions& options) : dim_(scene.dim()) {
   std::unordered_map<const Complex*, const SliceModel*> compiled;
   for (const SceneObject& obj : scene.objects) {
     const Complex* c = obj.complex.get();
@@ -49,7 +98,7 @@ SceneSlicer::SceneSlicer(const Scene& scene, const SliceModelOptions& options) :
 
 // The touched objects' placements for one normal: slot[i] indexes pl for object i (no_index: none
 // made yet); a new normal forgets them all.
-struct SceneSlicer::Placements {
+struct SceneSlicer::Impl::Placements {
   Eigen::VectorXd normal;
   std::vector<std::uint32_t> slot, used;
   std::vector<Slicer::Placement> pl;
@@ -76,7 +125,7 @@ struct SceneSlicer::Placements {
 // touched again takes its own buffers, the others those left over, then the spares; buffers
 // left after that become spares. (Only the storage and the topology cache depend on which
 // buffers an object gets, not the result.)
-void SceneSlicer::arrange(SceneSlice& out) {
+void SceneSlicer::Impl::arrange(SceneSlice& out) {
   std::vector<SliceBuffers>& held = out.buffers;
   const std::size_t n = touched_.size();
   const std::size_t m = std::min(out.objects.size(), held.size());
@@ -109,8 +158,8 @@ void SceneSlicer::arrange(SceneSlice& out) {
   held.swap(arranged_);
 }
 
-void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
-                        const SliceOptions& options) {
+void SceneSlicer::Impl::slice(const Hyperplane& plane, SceneSlice& out, unsigned threads,
+                              const SliceOptions& options) {
   if (!model_of_.empty() && plane.dim() != dim_)
     throw InputError("hyperplane in R^" + std::to_string(plane.dim()) + " for a scene in R^" +
                      std::to_string(dim_));
@@ -230,8 +279,8 @@ void SceneSlicer::slice(const Hyperplane& plane, SceneSlice& out, unsigned threa
         continue;
       }
       Slicer::Placement& pl = cache.pl[job.slot];
-      if (job.fresh) pl.set(*job.model, plane, job.transform);
-      slicers_[t].slice_with(*job.model, pl, plane, job.transform, o, options);
+      if (job.fresh) pl.set(*job.model->compiled_, plane, job.transform);
+      slicers_[t].impl_->slice_with(*job.model->compiled_, pl, plane, job.transform, o, options);
     }
   };
   // Blocks of consecutive touched objects; each thread writes only its own entries of

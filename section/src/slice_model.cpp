@@ -82,7 +82,7 @@ namespace {
 std::atomic<std::uint64_t> next_serial{1};
 }  // namespace
 
-SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
+SliceModel::Compiled::Compiled(const Complex& model, const SliceModelOptions& options)
     : model_(&model), serial_(next_serial.fetch_add(1, std::memory_order_relaxed)) {
   check_tables(model);
   fingerprint_ = model_fingerprint(model);
@@ -271,7 +271,7 @@ SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
   build_tet_tables();
 }
 
-void SliceModel::add_cluster(std::span<const std::uint32_t> vertices) {
+void SliceModel::Compiled::add_cluster(std::span<const std::uint32_t> vertices) {
   std::uint32_t last = 0xffffffffu;
   for (const std::uint32_t v : vertices) {
     const std::uint32_t d = v - last;  // (>= 1; below 2^31: ids fit in kUpIndex)
@@ -286,7 +286,7 @@ void SliceModel::add_cluster(std::span<const std::uint32_t> vertices) {
   cluster_vertex_.push_back(static_cast<std::uint32_t>(cluster_vertices_.size()));
 }
 
-void SliceModel::find_single_solid() {
+void SliceModel::Compiled::find_single_solid() {
   single_solid_ = false;
   solid_sign_.clear();
   if (top_ != dim_ || ranks_[top_].offsets.size() != 2) return;
@@ -302,7 +302,7 @@ void SliceModel::find_single_solid() {
   if (dim_ == 3) solid_sign_ = std::move(sign);
 }
 
-void SliceModel::build_cofaces() {
+void SliceModel::Compiled::build_cofaces() {
   // The range of the edges' lengths, for the weld test of each crossing (CrossingTest).
   {
     const Rank& E = ranks_[1];
@@ -350,7 +350,7 @@ void SliceModel::build_cofaces() {
     for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
 }
 
-void SliceModel::build_tet_tables() {
+void SliceModel::Compiled::build_tet_tables() {
   // Each pattern's polygon decided here as the kernel's face and cell passes decide it at slice
   // time (the same rules on the same combinatorics), once per cell instead of once per slice.
   tet_vertices_.clear();
@@ -460,7 +460,7 @@ const std::uint16_t kEdgeSigns = [] {
 }();
 }  // namespace
 
-bool SliceModel::compiled_from(const Complex& c) const {
+bool SliceModel::Compiled::compiled_from(const Complex& c) const {
   if (&c != model_ || c.ambient_dim() != dim_ || c.top_rank() != top_) return false;
   const auto same = [](const auto* a, const auto* b, std::size_t count) {
     return count == 0 || std::memcmp(a, b, count * sizeof(*a)) == 0;
@@ -500,7 +500,7 @@ bool SliceModel::compiled_from(const Complex& c) const {
   return true;
 }
 
-std::size_t SliceModel::bytes() const {
+std::size_t SliceModel::Compiled::bytes() const {
   std::size_t b = solid_sign_.size() + positions_.size() * sizeof(double) +
                   tet_vertices_.size() * 4 + tet_cases_.size() * 2 +
                   facet_normals_.size() * sizeof(double) + cluster_vertex_.size() * 4 +
@@ -512,6 +512,44 @@ std::size_t SliceModel::bytes() const {
   b += up_stride_.size() * 4;
   for (const auto& v : up_ids_) b += v.size() * 4;
   return b;
+}
+
+// --- the facade -----------------------------------------------------------------------------
+
+SliceModel::SliceModel(const Complex& model, const SliceModelOptions& options)
+    : compiled_(std::make_unique<Compiled>(model, options)) {}
+SliceModel::~SliceModel() = default;
+SliceModel::SliceModel(SliceModel&&) noexcept = default;
+SliceModel& SliceModel::operator=(SliceModel&&) noexcept = default;
+SliceModel::SliceModel(const SliceModel& other)
+    : compiled_(std::make_unique<Compiled>(*other.compiled_)) {}
+SliceModel& SliceModel::operator=(const SliceModel& other) {
+  if (this != &other) compiled_ = std::make_unique<Compiled>(*other.compiled_);
+  return *this;
+}
+const Complex& SliceModel::complex() const {
+  return compiled_->complex();
+}
+int SliceModel::dim() const {
+  return compiled_->dim_;
+}
+bool SliceModel::fast() const {
+  return compiled_->fast_;
+}
+std::size_t SliceModel::cluster_count() const {
+  return compiled_->cluster_count();
+}
+const Eigen::VectorXd& SliceModel::centre() const {
+  return compiled_->centre_;
+}
+double SliceModel::radius() const {
+  return compiled_->radius_;
+}
+bool SliceModel::compiled_from(const Complex& model) const {
+  return compiled_->compiled_from(model);
+}
+std::size_t SliceModel::bytes() const {
+  return compiled_->bytes();
 }
 
 void SliceBuffers::set_ranks(int top) {

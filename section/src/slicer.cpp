@@ -21,32 +21,81 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
 // The kernel's loop steps and the generic gathering's vertex and edge stamps share stamp_: when it
 // wraps, every stamp of both is cleared, so no old stamp can equal a new one.
-void Slicer::forget_stamps() {
+void Slicer::Impl::forget_stamps() {
   for (auto& step : loop_step_) step.stamp = 0;
   std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0u);
   std::fill(edge_stamp_.begin(), edge_stamp_.end(), 0u);
   stamp_ = 1;
 }
 
-// --- slicing --------------------------------------------------------------------------------
+// --- the facade -----------------------------------------------------------------------------
+
+Slicer::Slicer() : impl_(std::make_unique<Impl>()) {}
+Slicer::~Slicer() = default;
+Slicer::Slicer(Slicer&&) noexcept = default;
+Slicer& Slicer::operator=(Slicer&&) noexcept = default;
+Slicer::Slicer(const Slicer& other)
+    : impl_(std::make_unique<Impl>(other.impl_ ? *other.impl_ : Impl{})) {}
+Slicer& Slicer::operator=(const Slicer& other) {
+  if (this != &other) impl_ = std::make_unique<Impl>(other.impl_ ? *other.impl_ : Impl{});
+  return *this;
+}
+
+void Slicer::slice(const SliceModel& model, const Hyperplane& plane,
+                   const AffineTransform& model_to_world, SliceBuffers& out,
+                   const SliceOptions& options) {
+  if (!impl_) impl_ = std::make_unique<Impl>();  // (moved from)
+  impl_->slice(*model.compiled_, plane, model_to_world, out, options);
+}
 
 void Slicer::slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
                    const SliceOptions& options) {
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  impl_->slice(*model.compiled_, plane, out, options);
+}
+
+void Slicer::sweep(const SliceModel& model, const Eigen::VectorXd& normal,
+                   std::span<const double> offsets, const AffineTransform& model_to_world,
+                   std::vector<SliceBuffers>& out, unsigned threads) {
+  if (!impl_) impl_ = std::make_unique<Impl>();
+  impl_->sweep(*model.compiled_, normal, offsets, model_to_world, out, threads);
+}
+
+std::size_t Slicer::fast_slices() const {
+  return impl_ ? impl_->fast_count_ : 0;
+}
+std::size_t Slicer::cached_slices() const {
+  return impl_ ? impl_->cached_count_ : 0;
+}
+std::size_t Slicer::kernel_elements() const {
+  return impl_ ? impl_->kernel_count_ : 0;
+}
+std::size_t Slicer::generic_elements() const {
+  return impl_ ? impl_->generic_count_ : 0;
+}
+
+// --- slicing --------------------------------------------------------------------------------
+
+void Slicer::Impl::slice(const SliceModel::Compiled& model, const Hyperplane& plane,
+                         SliceBuffers& out, const SliceOptions& options) {
   slice_placed(model, plane, nullptr, out, options);
 }
 
-void Slicer::slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                   SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice(const SliceModel::Compiled& m, const Hyperplane& plane,
+                         const AffineTransform& xf, SliceBuffers& out,
+                         const SliceOptions& options) {
   slice_placed(m, plane, &xf, out, options);
 }
 
-void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                          SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice_placed(const SliceModel::Compiled& m, const Hyperplane& plane,
+                                const AffineTransform* xf, SliceBuffers& out,
+                                const SliceOptions& options) {
   if (!m.fast() || plane.dim() != m.dim() || (xf && xf->dim() != m.dim())) {
     general_from(m, plane, xf, out);  // (which throws InputError for mismatched dimensions)
     return;
@@ -56,8 +105,9 @@ void Slicer::slice_placed(const SliceModel& m, const Hyperplane& plane, const Af
   slice_with(m, pl, plane, xf, out, options);
 }
 
-void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
-                        const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options) {
+void Slicer::Impl::slice_with(const SliceModel::Compiled& m, Placement& pl, const Hyperplane& plane,
+                              const AffineTransform* xf, SliceBuffers& out,
+                              const SliceOptions& options) {
   pl.plane = &plane;  // (a scene's cached placement was made for an equal plane)
   out.source_fingerprint = m.fingerprint_;
   near_parallel_ = tol::near_parallel_edge * pl.nm_norm;
@@ -71,8 +121,8 @@ void Slicer::slice_with(const SliceModel& m, Placement& pl, const Hyperplane& pl
   if (!fast_slice(m, pl, options, out)) general_from(m, plane, xf, out);
 }
 
-void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                          SliceBuffers& out) {
+void Slicer::Impl::general_from(const SliceModel::Compiled& m, const Hyperplane& plane,
+                                const AffineTransform* xf, SliceBuffers& out) {
   out.source_fingerprint = m.fingerprint_;
   if (xf)
     general_slice(m, plane, *xf, out);
@@ -80,8 +130,8 @@ void Slicer::general_from(const SliceModel& m, const Hyperplane& plane, const Af
     general_slice(m, plane, AffineTransform::identity(m.dim()), out);
 }
 
-void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                           SliceBuffers& out) {
+void Slicer::Impl::general_slice(const SliceModel::Compiled& m, const Hyperplane& plane,
+                                 const AffineTransform& xf, SliceBuffers& out) {
   const Section sec = general_cut(m.complex(), plane, xf);
   const Complex& c = sec.complex;
   out.dim = c.ambient_dim();
@@ -99,8 +149,8 @@ void Slicer::general_slice(const SliceModel& m, const Hyperplane& plane, const A
   out.cache_valid_ = false;
 }
 
-bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
-                        std::vector<Term>& image) {
+bool Slicer::Impl::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
+                              std::vector<Term>& image) {
   // As the general path's emit_faces: signed section edges chained into closed loops, each
   // loop one polygon in cycle order; loops start at the smallest unused tail.
   Incidence& edges = out.boundary[0];
@@ -161,11 +211,12 @@ bool Slicer::emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffer
   return true;
 }
 
-bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
-                          std::vector<std::uint32_t>& facets, std::vector<Term>& image) {
+bool Slicer::Impl::emit_element(const SliceModel::Compiled& m, int k, std::uint32_t x,
+                                SliceBuffers& out, std::vector<std::uint32_t>& facets,
+                                std::vector<Term>& image) {
   combine_chain(chain_);  // as the general path does
   if (chain_.empty()) return true;
-  const SliceModel::Rank& R = m.ranks_[k];
+  const SliceModel::Compiled::Rank& R = m.ranks_[k];
   const int fr = m.dim_ - 1;
   const std::uint32_t model_x = R.model_id.empty() ? x : R.model_id[x];
   if (k == 2) {
@@ -199,29 +250,29 @@ bool Slicer::emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuff
   return true;
 }
 
-void Slicer::mark_parents(const SliceModel& m, int k, std::uint32_t x) {
-  const SliceModel::Up up = m.up(k);
+void Slicer::Impl::mark_parents(const SliceModel::Compiled& m, int k, std::uint32_t x) {
+  const SliceModel::Compiled::Up up = m.up(k);
   std::vector<std::uint64_t>& bits = mark_[k + 1];
   for (std::uint32_t i = up.begin(x), end = up.end(x); i < end; ++i) {
-    const std::uint32_t y = up.ids[i] & SliceModel::kUpIndex;
+    const std::uint32_t y = up.ids[i] & SliceModel::Compiled::kUpIndex;
     bits[y >> 6] |= std::uint64_t{1} << (y & 63);
   }
 }
 
-bool Slicer::fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                        SliceBuffers& out) {
+bool Slicer::Impl::fast_slice(const SliceModel::Compiled& m, const Placement& pl,
+                              const SliceOptions& options, SliceBuffers& out) {
   prepare(m);
   if (fast_slice_marked(m, pl, options, out)) return true;
   clear_marks(m);
   return false;
 }
 
-void Slicer::clear_marks(const SliceModel& m) {
+void Slicer::Impl::clear_marks(const SliceModel::Compiled& m) {
   // Given up half way: no marks may survive into the next slice.
   for (int k = 1; k <= m.top_; ++k) std::fill(mark_[k].begin(), mark_[k].end(), 0);
 }
 
-void Slicer::prepare(const SliceModel& m) {
+void Slicer::Impl::prepare(const SliceModel::Compiled& m) {
   const int top = m.top_;
   const std::size_t nv = m.nv_;
   if (++gen_ == 0) {  // wrapped: forget every stamp
@@ -243,14 +294,15 @@ void Slicer::prepare(const SliceModel& m) {
   }
 }
 
-void Slicer::size_images(const SliceModel& m) {
+void Slicer::Impl::size_images(const SliceModel::Compiled& m) {
   for (int k = 1; k <= m.top_; ++k) {
     const std::size_t count = m.ranks_[k].count;
     if (images_[k].size() < count) images_[k].resize(count);
   }
 }
 
-void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::start_buffers(const SliceModel::Compiled& m, const Placement& pl,
+                                 SliceBuffers& out) {
   start_kernel_buffers(m, pl, out);
   // ... and the lists it keeps emptied as well: every table and list of the slice is empty.
   out.coords.clear();
@@ -264,7 +316,8 @@ void Slicer::start_buffers(const SliceModel& m, const Placement& pl, SliceBuffer
     out.source[r].clear();
 }
 
-void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::start_kernel_buffers(const SliceModel::Compiled& m, const Placement& pl,
+                                        SliceBuffers& out) {
   // The buffers' plane, frame and flags, their tables and lists for the model's ranks, the
   // tables above the polygons and the lists above theirs empty. What the kernel writes whole at
   // its final size (vertices and their sources, coordinates, section edges, polygons, their
@@ -291,29 +344,125 @@ void Slicer::start_kernel_buffers(const SliceModel& m, const Placement& pl, Slic
   for (std::size_t r = 3; r < out.source.size(); ++r) out.source[r].clear();
 }
 
-bool Slicer::crossing(const SliceModel& m, std::uint32_t e, double* t_out) const {
+bool Slicer::Impl::crossing(const SliceModel::Compiled& m, std::uint32_t e, double* t_out) const {
   const std::uint32_t a = m.ranks_[1].ids[2 * e], b = m.ranks_[1].ids[2 * e + 1];
   const double t = s_[a] / (s_[a] - s_[b]);
   *t_out = t;
   return !m.crossing_test(near_parallel_)(a, b, s_[a], s_[b], t);
 }
 
-bool Slicer::add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out) {
+bool Slicer::Impl::add_crossing(const SliceModel::Compiled& m, std::uint32_t e, SliceBuffers& out) {
   double t;
   if (!crossing(m, e, &t)) return fail(FallbackReason::Weld);
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   const std::uint32_t a = E.ids[2 * e];
   const std::uint32_t v = static_cast<std::uint32_t>(out.vertex_source.size());
   out.vertex_source.push_back({E.model_id.empty() ? e : E.model_id[e], 1, t});
   section_edge_.push_back(e);
   images_[1][e] = {gen_, static_cast<std::uint32_t>(terms_[1].size()), 1};
-  terms_[1].push_back({v, side_[a] < 0 ? 1 : -1});
+  terms_[1].push_back({v, side_[a] == Side::Negative ? 1 : -1});
   mark_parents(m, 1, e);
   return true;
 }
 
-bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
-                               const SliceOptions& options, SliceBuffers& out) {
+namespace {
+
+// The R^4 vertex pass over every vertex: the signed value n.x - d of vertices [v, nv) (four
+// coordinates each in P), summed in the fixed order of slicer_detail::height, into sv, and
+// their sides into sd; true when one is on the plane (within tol). The scalar form, which also
+// finishes what classify_vertices_r4_sse2 leaves.
+bool classify_vertices_r4_scalar(const double* P, std::uint32_t v, std::uint32_t nv,
+                                 const double* nm, double dm, double tol, double* sv, Side* sd) {
+  const double n0 = nm[0], n1 = nm[1], n2 = nm[2], n3 = nm[3];
+  bool on = false;
+  for (; v < nv; ++v) {
+    const double* x = P + 4 * v;
+    double h = n0 * x[0];
+    h += n1 * x[1];
+    h += n2 * x[2];
+    h += n3 * x[3];
+    const double sval = h - dm;
+    const std::int8_t sgn = static_cast<std::int8_t>((sval > tol) - (sval < -tol));
+    sv[v] = sval;
+    sd[v] = static_cast<Side>(sgn);
+    on |= sgn == 0;
+  }
+  return on;
+}
+
+#if defined(__SSE2__)
+// classify_vertices_r4_scalar for the vertices [0, *done), two per register, each lane the same
+// operations in the same order (the same bits); eight vertices' sides are packed to bytes and
+// stored at once. A side is the difference of the comparison masks (-1 below, 1 above, 0 on the
+// plane). *done: the first vertex left to the scalar form.
+bool classify_vertices_r4_sse2(const double* P, std::uint32_t nv, const double* nm, double dm,
+                               double tol, double* sv, Side* side_out, std::uint32_t* done) {
+  std::int8_t* const sd = reinterpret_cast<std::int8_t*>(side_out);  // (Side is one signed byte)
+  const double n0 = nm[0], n1 = nm[1], n2 = nm[2], n3 = nm[3];
+  std::uint32_t v = 0;
+  const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
+                c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
+                lo = _mm_set1_pd(-tol);
+  // Two vertices per lane pair, each lane the same operations in the same order (same
+  // bits); eight vertices' sides packed to bytes and stored at once. A side is the
+  // difference of the comparison masks (-1 below, 1 above, 0 on the plane).
+  const auto values = [&](std::uint32_t w) {
+    const double* x = P + 4 * w;
+    const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
+    const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
+    __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
+    h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
+    h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
+    h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
+    const __m128d sval = _mm_sub_pd(h, cd);
+    _mm_storeu_pd(sv + w, sval);
+    return _mm_sub_epi64(_mm_castpd_si128(_mm_cmplt_pd(sval, lo)),
+                         _mm_castpd_si128(_mm_cmpgt_pd(sval, hi)));
+  };
+  __m128i zeros = _mm_setzero_si128();  // (a byte per vertex: 0xff where on the plane)
+  for (; v + 8 <= nv; v += 8) {
+    // The low 32 bits of each 64-bit side, four vertices per register, then packed.
+    const auto low = [](__m128i a, __m128i b) {
+      return _mm_unpacklo_epi64(_mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 2, 0)),
+                                _mm_shuffle_epi32(b, _MM_SHUFFLE(3, 3, 2, 0)));
+    };
+    const __m128i s03 = low(values(v), values(v + 2));
+    const __m128i s47 = low(values(v + 4), values(v + 6));
+    const __m128i w16 = _mm_packs_epi32(s03, s47);
+    const __m128i b8 = _mm_packs_epi16(w16, w16);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(sd + v), b8);
+    zeros = _mm_or_si128(zeros, _mm_cmpeq_epi8(b8, _mm_setzero_si128()));
+  }
+  int on_bits = _mm_movemask_epi8(zeros) & 0xff;
+  for (; v + 2 <= nv; v += 2) {
+    const __m128i sides = values(v);
+    const int s0 = _mm_cvtsi128_si32(sides);
+    const int s1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(sides, _MM_SHUFFLE(3, 3, 3, 2)));
+    sd[v] = static_cast<std::int8_t>(s0);
+    sd[v + 1] = static_cast<std::int8_t>(s1);
+    on_bits |= (s0 == 0) | (s1 == 0);
+  }
+  *done = v;
+  return on_bits != 0;
+}
+#endif
+
+// The vertex pass of an R^4 slice that touches every vertex, without early exits: the values
+// and sides `value` in fast_slice_marked gives, SSE2 where there is SSE2.
+bool classify_vertices_r4(const double* P, std::uint32_t nv, const double* nm, double dm,
+                          double tol, double* sv, Side* sd) {
+  std::uint32_t v = 0;
+  bool on = false;
+#if defined(__SSE2__)
+  on = classify_vertices_r4_sse2(P, nv, nm, dm, tol, sv, sd, &v);
+#endif
+  return classify_vertices_r4_scalar(P, v, nv, nm, dm, tol, sv, sd) || on;
+}
+
+}  // namespace
+
+bool Slicer::Impl::fast_slice_marked(const SliceModel::Compiled& m, const Placement& pl,
+                                     const SliceOptions& options, SliceBuffers& out) {
   const int n = m.dim_;
   const std::size_t nc = m.cluster_count();
   touched_.clear();
@@ -328,78 +477,14 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
     const double s = height(pl.nm, P + v * n, n) - pl.dm;
     const Side side = classify_side(s, pl.tol);
     s_[v] = s;
-    side_[v] = static_cast<std::int8_t>(side);
+    side_[v] = side;
     return side != Side::On;  // on the plane: symbolic perturbation, the general path
   };
   if (touched_.size() == nc && n == 4) {
     // Every vertex (each belongs to a cluster): one pass without early exits, the same values
     // and sides as `value` gives.
-    const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
-    const double n0 = pl.nm[0], n1 = pl.nm[1], n2 = pl.nm[2], n3 = pl.nm[3], dm = pl.dm;
-    const double tol = pl.tol;
-    double* sv = s_.data();
-    std::int8_t* sd = side_.data();
-    bool on = false;
-    std::uint32_t v = 0;
-#if defined(__SSE2__)
-    {
-      const __m128d c0 = _mm_set1_pd(n0), c1 = _mm_set1_pd(n1), c2 = _mm_set1_pd(n2),
-                    c3 = _mm_set1_pd(n3), cd = _mm_set1_pd(dm), hi = _mm_set1_pd(tol),
-                    lo = _mm_set1_pd(-tol);
-      // Two vertices per lane pair, each lane the same operations in the same order (same
-      // bits); eight vertices' sides packed to bytes and stored at once. A side is the
-      // difference of the comparison masks (-1 below, 1 above, 0 on the plane).
-      const auto values = [&](std::uint32_t w) {
-        const double* x = P + 4 * w;
-        const __m128d a01 = _mm_loadu_pd(x), a23 = _mm_loadu_pd(x + 2);
-        const __m128d b01 = _mm_loadu_pd(x + 4), b23 = _mm_loadu_pd(x + 6);
-        __m128d h = _mm_mul_pd(c0, _mm_unpacklo_pd(a01, b01));
-        h = _mm_add_pd(h, _mm_mul_pd(c1, _mm_unpackhi_pd(a01, b01)));
-        h = _mm_add_pd(h, _mm_mul_pd(c2, _mm_unpacklo_pd(a23, b23)));
-        h = _mm_add_pd(h, _mm_mul_pd(c3, _mm_unpackhi_pd(a23, b23)));
-        const __m128d sval = _mm_sub_pd(h, cd);
-        _mm_storeu_pd(sv + w, sval);
-        return _mm_sub_epi64(_mm_castpd_si128(_mm_cmplt_pd(sval, lo)),
-                             _mm_castpd_si128(_mm_cmpgt_pd(sval, hi)));
-      };
-      __m128i zeros = _mm_setzero_si128();  // (a byte per vertex: 0xff where on the plane)
-      for (; v + 8 <= nv; v += 8) {
-        // The low 32 bits of each 64-bit side, four vertices per register, then packed.
-        const auto low = [](__m128i a, __m128i b) {
-          return _mm_unpacklo_epi64(_mm_shuffle_epi32(a, _MM_SHUFFLE(3, 3, 2, 0)),
-                                    _mm_shuffle_epi32(b, _MM_SHUFFLE(3, 3, 2, 0)));
-        };
-        const __m128i s03 = low(values(v), values(v + 2));
-        const __m128i s47 = low(values(v + 4), values(v + 6));
-        const __m128i w16 = _mm_packs_epi32(s03, s47);
-        const __m128i b8 = _mm_packs_epi16(w16, w16);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(sd + v), b8);
-        zeros = _mm_or_si128(zeros, _mm_cmpeq_epi8(b8, _mm_setzero_si128()));
-      }
-      int on_bits = _mm_movemask_epi8(zeros) & 0xff;
-      for (; v + 2 <= nv; v += 2) {
-        const __m128i sides = values(v);
-        const int s0 = _mm_cvtsi128_si32(sides);
-        const int s1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(sides, _MM_SHUFFLE(3, 3, 3, 2)));
-        sd[v] = static_cast<std::int8_t>(s0);
-        sd[v + 1] = static_cast<std::int8_t>(s1);
-        on_bits |= (s0 == 0) | (s1 == 0);
-      }
-      on = on_bits != 0;
-    }
-#endif
-    for (; v < nv; ++v) {
-      const double* x = P + 4 * v;
-      double h = n0 * x[0];
-      h += n1 * x[1];
-      h += n2 * x[2];
-      h += n3 * x[3];
-      const double sval = h - dm;
-      const std::int8_t sgn = static_cast<std::int8_t>((sval > tol) - (sval < -tol));
-      sv[v] = sval;
-      sd[v] = sgn;
-      on |= sgn == 0;
-    }
+    const bool on = classify_vertices_r4(P, static_cast<std::uint32_t>(m.nv_), pl.nm, pl.dm, pl.tol,
+                                         s_.data(), side_.data());
     if (on) return fail(FallbackReason::OnPlane);
   } else if (touched_.size() == nc && nc > 1) {
     const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
@@ -410,9 +495,9 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
       if (!m.each_cluster_vertex(c, value)) return fail(FallbackReason::OnPlane);
   }
   if (kernel_ && n == 4 && m.top_ >= 3) {
-    const int done = kernel_slice(m, pl, out);
-    if (done == 0) return false;
-    if (done > 0) {
+    const KernelResult done = kernel_slice(m, pl, out);
+    if (done == KernelResult::General) return false;
+    if (done == KernelResult::Done) {
       if (options.reuse_topology) remember(m, pl, out);
       ++fast_count_;
       return true;
@@ -422,7 +507,7 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   size_images(m);
   // Rank 1: a section vertex per crossing edge, in id order.
   start_buffers(m, pl, out);
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   for (auto c : touched_)
     for (std::uint32_t e = m.begin_[0][c]; e < m.begin_[0][c + 1]; ++e)
       if (side_[E.ids[2 * e]] != side_[E.ids[2 * e + 1]] && !add_crossing(m, e, out)) return false;
@@ -439,13 +524,14 @@ bool Slicer::fast_slice_marked(const SliceModel& m, const Placement& pl,
   return true;
 }
 
-bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from) {
+bool Slicer::Impl::cut_upper(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out,
+                             int from) {
   const int fr = m.dim_ - 1;
   const int top = m.top_;
   // Ranks 2..top: only the elements a crossing reaches (marked through the cofaces), in
   // increasing id order within each touched cluster, so the order is that of a full scan.
   for (int k = from; k <= top; ++k) {
-    const SliceModel::Rank& R = m.ranks_[k];
+    const SliceModel::Compiled::Rank& R = m.ranks_[k];
     const std::size_t count = R.offsets.size() - 1;
     std::vector<std::uint64_t>& bits = mark_[k];
     // (rank k - 1 is complete: its images and terms stay put while rank k is cut)
@@ -607,13 +693,13 @@ bool Slicer::cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& o
   return finish_fast(m, pl, out, section_edge_, facet_internal_);
 }
 
-void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& out) {
+void Slicer::Impl::remember(const SliceModel::Compiled& m, const Placement& pl, SliceBuffers& out) {
   out.cache_model_ = m.serial_;
   out.cache_touched_ = touched_;
   out.cache_side_.clear();
   for (auto c : touched_)
     m.each_cluster_vertex(c, [&](std::uint32_t v) {
-      out.cache_side_.push_back(side_[v]);
+      out.cache_side_.push_back(static_cast<std::int8_t>(side_[v]));
       return true;
     });
   out.cache_edge_ = section_edge_;
@@ -622,9 +708,9 @@ void Slicer::remember(const SliceModel& m, const Placement& pl, SliceBuffers& ou
   out.cache_valid_ = true;
 }
 
-bool Slicer::finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                         std::span<const std::uint32_t> section_edge,
-                         std::span<const std::uint32_t> facet_internal) {
+bool Slicer::Impl::finish_fast(const SliceModel::Compiled& m, const Placement& pl,
+                               SliceBuffers& out, std::span<const std::uint32_t> section_edge,
+                               std::span<const std::uint32_t> facet_internal) {
   const int n = m.dim_;
   // Orientation as section(): the facets' cuts face outward for even n, inward for odd n, and
   // a reflecting transform reverses them once more; solids list their facets with +1.
@@ -748,9 +834,9 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
 
 }  // namespace
 
-bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                            std::span<const std::uint32_t> section_edge,
-                            std::span<const std::uint32_t> facet_internal, bool facets) {
+bool Slicer::Impl::write_geometry(const SliceModel::Compiled& m, const Placement& pl,
+                                  SliceBuffers& out, std::span<const std::uint32_t> section_edge,
+                                  std::span<const std::uint32_t> facet_internal, bool facets) {
   const int n = m.dim_;
   const int o = n - 1;
   out.coords.resize(section_edge.size() * o);
@@ -769,8 +855,8 @@ bool Slicer::write_geometry(const SliceModel& m, const Placement& pl, SliceBuffe
   return true;
 }
 
-bool Slicer::reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                   SliceBuffers& out) {
+bool Slicer::Impl::reuse(const SliceModel::Compiled& m, const Placement& pl,
+                         const SliceOptions& options, SliceBuffers& out) {
   if (!out.cache_valid_ || out.cache_model_ != m.serial_ || out.cache_reflect_ != pl.reflect)
     return false;
   const int n = m.dim_;

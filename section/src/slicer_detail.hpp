@@ -11,6 +11,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "cw4d/section/hyperplane.hpp"
 #include "cw4d/section/slicer.hpp"
+#include "slice_model_compiled.hpp"
 
 namespace cw4d {
 
@@ -135,7 +136,7 @@ inline double edge_length(const double* P, int n, std::uint32_t a, std::uint32_t
 // in its factors, so a test that fails for the longest edge fails for every shorter one, and
 // one that fails for the shortest fails for every longer one); only the rest compute the
 // edge's length from its ends, as the compile does, so the decision is the same bit for bit.
-struct SliceModel::CrossingTest {
+struct SliceModel::Compiled::CrossingTest {
   const double* P;
   int n;
   double shortest, longest, weld, near_parallel;
@@ -148,7 +149,8 @@ struct SliceModel::CrossingTest {
   }
 };
 
-inline SliceModel::CrossingTest SliceModel::crossing_test(double near_parallel) const {
+inline SliceModel::Compiled::CrossingTest SliceModel::Compiled::crossing_test(
+    double near_parallel) const {
   return {positions(), dim_, edge_min_, edge_max_, weld_, near_parallel};
 }
 
@@ -173,7 +175,7 @@ struct Slicer::Placement {
 
   // Everything that does not depend on the plane offset.
   // xf == nullptr: the identity.
-  void set(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
+  void set(const SliceModel::Compiled& m, const Hyperplane& p, const AffineTransform* xf) {
     // The loops at a fixed trip count for R^4 and R^3 (the same operations in the same order).
     if (m.dim() == 4)
       set_dim<4>(m, p, xf);
@@ -184,7 +186,7 @@ struct Slicer::Placement {
   }
 
   template <int D>
-  void set_dim(const SliceModel& m, const Hyperplane& p, const AffineTransform* xf) {
+  void set_dim(const SliceModel::Compiled& m, const Hyperplane& p, const AffineTransform* xf) {
     const int n = D > 0 ? D : m.dim();  // (a constant for the loops when D > 0)
     this->n = n;
     plane = &p;
@@ -254,7 +256,7 @@ struct Slicer::Placement {
   // The plane offset d (world) for this slice.
   double offset = 0.0;  // the world-space plane offset of this slice
 
-  void set_offset(const SliceModel& m, double d) {
+  void set_offset(const SliceModel::Compiled& m, double d) {
     offset = d;
     double nt = 0.0;
     for (int i = 0; i < n; ++i) nt += plane->normal[i] * t[i];

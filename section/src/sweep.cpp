@@ -22,6 +22,7 @@
 #include "cw4d/complex/tolerances.hpp"
 #include "general.hpp"
 #include "slicer_detail.hpp"
+#include "slicer_impl.hpp"
 
 namespace cw4d {
 
@@ -45,9 +46,9 @@ std::uint32_t first_greater(const double* x, std::uint32_t n, double h) {
 
 // --- sweeps ---------------------------------------------------------------------------------
 
-void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
-                   std::span<const double> offsets, const AffineTransform& xf,
-                   std::vector<SliceBuffers>& out, unsigned threads) {
+void Slicer::Impl::sweep(const SliceModel::Compiled& m, const Eigen::VectorXd& normal,
+                         std::span<const double> offsets, const AffineTransform& xf,
+                         std::vector<SliceBuffers>& out, unsigned threads) {
   if (offsets.empty()) {
     out.clear();
     return;
@@ -86,9 +87,10 @@ void Slicer::sweep(const SliceModel& m, const Eigen::VectorXd& normal,
   for (unsigned t = 0; t + 1 < threads; ++t) fast_count_ += helpers_[t].fast_count_ - before[t];
 }
 
-void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                          std::span<const double> offsets, std::span<const std::uint32_t> layers,
-                          std::vector<SliceBuffers>& out) {
+void Slicer::Impl::sweep_layers(const SliceModel::Compiled& m, const Hyperplane& plane,
+                                const AffineTransform& xf, std::span<const double> offsets,
+                                std::span<const std::uint32_t> layers,
+                                std::vector<SliceBuffers>& out) {
   const std::size_t L = layers.size();
   if (L == 0) return;
   kernel_ = true;
@@ -144,7 +146,7 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
   // active set at the first layer above lo (bucketed by that layer) and leave it at the first
   // layer at or above hi (dropped before the layer is built), so each layer sees exactly its
   // crossing edges.
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   bucket_offsets_.assign(L + 2, 0);
   edge_top_.resize(ne);
@@ -191,8 +193,8 @@ void Slicer::sweep_layers(const SliceModel& m, const Hyperplane& plane, const Af
       const std::uint32_t a = E.ids[2 * e], b = E.ids[2 * e + 1];
       s_[a] = height_[a] - d;
       s_[b] = height_[b] - d;
-      side_[a] = s_[a] < 0.0 ? -1 : 1;
-      side_[b] = s_[b] < 0.0 ? -1 : 1;
+      side_[a] = s_[a] < 0.0 ? Side::Negative : Side::Positive;
+      side_[b] = s_[b] < 0.0 ? Side::Negative : Side::Positive;
       edge_bits[e >> 6] |= std::uint64_t{1} << (e & 63);
     }
     start_buffers(m, pl, o);
@@ -360,12 +362,12 @@ void csr_offsets(std::span<const std::uint32_t> keys, std::size_t count,
 
 }  // namespace
 
-void Slicer::sweep_incidences(const SliceModel& m) {
+void Slicer::Impl::sweep_incidences(const SliceModel::Compiled& m) {
   SweepState& w = sweep_;
   if (w.model == m.serial_) return;
-  const SliceModel::Rank& E = m.ranks_[1];
-  const SliceModel::Rank& F = m.ranks_[2];
-  const SliceModel::Rank& C = m.ranks_[3];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& F = m.ranks_[2];
+  const SliceModel::Compiled::Rank& C = m.ranks_[3];
   const std::size_t nv = m.nv_;
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
@@ -401,13 +403,13 @@ void Slicer::sweep_incidences(const SliceModel& m) {
   w.model = m.serial_;
 }
 
-std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
+std::uint8_t Slicer::Impl::sweep_face(const SliceModel::Compiled& m, std::uint32_t f) {
   // As the kernel's face pass: exactly two crossings of opposite coefficients (+1 when the
   // edge's tail is below) give the section edge from the -1 crossing to the +1 one.
   SweepState& w = sweep_;
-  const SliceModel::Rank& F = m.ranks_[2];
+  const SliceModel::Compiled::Rank& F = m.ranks_[2];
   const SweepSlot* entries = w.face_entries.data();
-  const std::int8_t* side = side_.data();
+  const Side* side = side_.data();
   std::uint32_t e[2];
   int coef[2];
   int cnt = 0;
@@ -415,7 +417,9 @@ std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
         if (cnt == 2) return false;
         const SweepSlot x = entries[i];
         // (the signs are +-1: the model has unit signs)
-        coef[cnt] = (side[x.index & ~kSweepFlip] < 0) != ((x.index & kSweepFlip) != 0) ? -1 : 1;
+        coef[cnt] = (side[x.index & ~kSweepFlip] == Side::Negative) != ((x.index & kSweepFlip) != 0)
+                        ? -1
+                        : 1;
         e[cnt++] = x.element;
         return true;
       }))
@@ -427,11 +431,11 @@ std::uint8_t Slicer::sweep_face(const SliceModel& m, std::uint32_t f) {
   return 1;
 }
 
-std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
+std::uint8_t Slicer::Impl::sweep_cell(const SliceModel::Compiled& m, std::uint32_t c) {
   // As the kernel's cell pass: one step per cut face (forward when the face's sign in the cell
   // is -1), one leaving each tail, followed from the smallest tail through every step.
   SweepState& w = sweep_;
-  const SliceModel::Rank& C = m.ranks_[3];
+  const SliceModel::Compiled::Rank& C = m.ranks_[3];
   const std::uint32_t* cell_entries = w.cell_entries.data();
   std::uint32_t tails[kSweepSmall], heads[kSweepSmall], entries[kSweepSmall];
   std::uint32_t ns = 0;
@@ -527,15 +531,16 @@ std::uint8_t Slicer::sweep_cell(const SliceModel& m, std::uint32_t c) {
   return 1;
 }
 
-void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild) {
+void Slicer::Impl::sweep_update(const SliceModel::Compiled& m, std::span<const std::uint32_t> moved,
+                                bool rebuild) {
   // The sides of `moved` (of every vertex when rebuilding) are already those of the new layer.
   SweepState& w = sweep_;
-  const SliceModel::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(m.ranks_[2].offsets.size() - 1);
   const std::uint32_t nc = static_cast<std::uint32_t>(m.ranks_[3].offsets.size() - 1);
   const std::uint32_t* edge_ends = E.ids.data();
-  const std::int8_t* side = side_.data();
+  const Side* side = side_.data();
   const std::uint32_t st = next_stamp(w.stamp, {&w.stamp_f, &w.stamp_c});
   const SweepSlot* edge_faces = w.edge_faces.data();
   const std::uint32_t* edge_face_offsets = w.edge_face_offsets.data();
@@ -657,7 +662,7 @@ void Slicer::sweep_update(const SliceModel& m, std::span<const std::uint32_t> mo
   }
 }
 
-void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
+void Slicer::Impl::sweep_normals(const SliceModel::Compiled& m, const Placement& pl) {
   // write_geometry's facet normal of every cell (term for term): the model facet's normal
   // through A^{-T}, projected, unit; the fourth entry 0 when nearly parallel to the plane.
   SweepState& w = sweep_;
@@ -682,9 +687,11 @@ void Slicer::sweep_normals(const SliceModel& m, const Placement& pl) {
   }
 }
 
-void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
-                          std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
-                          const AffineTransform& xf, const Hyperplane& plane) {
+void Slicer::Impl::sweep_events(const SliceModel::Compiled& m, Placement& pl,
+                                std::span<const double> offsets,
+                                std::span<const std::uint32_t> layers,
+                                std::vector<SliceBuffers>& out, const AffineTransform& xf,
+                                const Hyperplane& plane) {
   SweepState& w = sweep_;
   const std::size_t L = layers.size();
   bool restore = false;  // slice() wrote its own sides
@@ -698,9 +705,9 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     for (auto k : layers) single(k);
     return;
   }
-  const SliceModel::Rank& E = m.ranks_[1];
-  const SliceModel::Rank& F = m.ranks_[2];
-  const SliceModel::Rank& C = m.ranks_[3];
+  const SliceModel::Compiled::Rank& E = m.ranks_[1];
+  const SliceModel::Compiled::Rank& F = m.ranks_[2];
+  const SliceModel::Compiled::Rank& C = m.ranks_[3];
   const std::uint32_t nv = static_cast<std::uint32_t>(m.nv_);
   const std::uint32_t ne = static_cast<std::uint32_t>(E.count);
   const std::uint32_t nf = static_cast<std::uint32_t>(F.offsets.size() - 1);
@@ -730,7 +737,7 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
   std::uint32_t last = kNoLayer;  // the last layer built from the structure as it is
   const double* H = height_.data();
   const double* D = layer_d_.data();
-  const SliceModel::CrossingTest needs_general_at = m.crossing_test(near_parallel_);
+  const SliceModel::Compiled::CrossingTest needs_general_at = m.crossing_test(near_parallel_);
   const std::uint32_t* edge_ends = E.ids.data();
   const std::uint32_t* edge_id = E.model_id.empty() ? nullptr : E.model_id.data();
   const std::uint32_t* face_id = F.model_id.empty() ? nullptr : F.model_id.data();
@@ -754,14 +761,16 @@ void Slicer::sweep_events(const SliceModel& m, Placement& pl, std::span<const do
     const std::uint32_t to = lv[j + 1];
     const bool rebuild = !valid || 4 * std::size_t{to - below} > nv;
     if (restore && !rebuild) {  // the structure's sides again
-      for (std::uint32_t i = 0; i < nv; ++i) side_[w.by_layer[i]] = i < below ? -1 : 1;
+      for (std::uint32_t i = 0; i < nv; ++i)
+        side_[w.by_layer[i]] = i < below ? Side::Negative : Side::Positive;
     }
     restore = false;
     if (rebuild) {
-      for (std::uint32_t v = 0; v < nv; ++v) side_[v] = H[v] - d < 0.0 ? -1 : 1;
+      for (std::uint32_t v = 0; v < nv; ++v)
+        side_[v] = H[v] - d < 0.0 ? Side::Negative : Side::Positive;
     } else {
       moved.assign(w.by_layer.begin() + below, w.by_layer.begin() + to);
-      for (std::uint32_t v : moved) side_[v] = -1;
+      for (std::uint32_t v : moved) side_[v] = Side::Negative;
     }
     if (rebuild || to != below) {
       sweep_update(m, moved, rebuild);

@@ -1,26 +1,14 @@
 #pragma once
-// The hot path of the section: a model compiled once into flat arrays (SliceModel), a Slicer
-// that owns every scratch buffer, and flat output (SliceBuffers) whose storage is reused from
-// slice to slice, so that after the first slices of a model no memory is allocated. On top of
-// it: bounding-sphere and cell-cluster culling, a topology cache for animation frames, sweeps of
-// parallel planes in one pass, and threads. Every one of these gives exactly (bit for bit) the
-// buffers of the plain call Slicer::slice(model, plane, xf, out); section() itself is
-// to_section() of that call.
+// The hot path of the section: a model compiled once (SliceModel), a Slicer that owns every
+// scratch buffer, and flat output (SliceBuffers) whose storage is reused, so that after the
+// first slices of a model no memory is allocated. Culling, the topology cache for animation
+// frames, sweeps and threads all give exactly (bit for bit) the buffers of the plain call
+// Slicer::slice(model, plane, xf, out); section() is to_section() of that call.
 //
-// How a slice stays cheap: the plane is moved into model space; the signed value of a vertex is
-// its height n.x (summed in a fixed order) minus d, computed only for the vertices of clusters
-// whose bounding sphere meets the plane; each crossing edge marks the faces above it (coface
-// lists), each cut face the cells above it, so only elements a crossing reaches are visited,
-// in increasing id order (bit marks), which is the order a full scan would give.
-//
-// The fast path covers valid complexes in R^3 and R^4 with facet normals whose faces are cut
-// in at most two points (convex faces; cells may be non-convex). Anything else goes through the
-// general layered cut (section_general), whose result is copied into the buffers
-// (SliceBuffers::general is then true): vertices on the plane, crossings within the weld
-// distance of a vertex, faces cut in more than two points, cell cuts whose loops pinch (a
-// vertex starting two steps) or do not close, multiplicities other than 1, sections of facets
-// nearly parallel to the plane (projected normal below 1e-9), models without facet normals or
-// with elements bounding nothing above them, models of other dimensions.
+// The fast path covers valid complexes in R^3 and R^4 with facet normals whose faces are cut in
+// at most two points (cells may be non-convex). Anything else goes through the general layered
+// cut (section_general), whose result is copied into the buffers: SliceBuffers::general is then
+// true and SliceBuffers::fallback says why.
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -50,7 +38,6 @@ enum class FallbackReason : std::uint8_t {
 };
 inline constexpr int kFallbackReasonCount = 8;
 const char* to_string(FallbackReason r);
-#define CW4D_SLICE_FALLBACK_REASON 1
 
 struct SliceModelOptions {
   /// Models with at least this many facets are split into clusters of cells for culling.
@@ -67,22 +54,31 @@ struct SliceModelOptions {
 /// largest vertex norm and the weld distance. Immutable after construction and safe to share
 /// between threads. Keeps a reference to `model`, which must outlive it unchanged (the general
 /// path cuts the model itself, and a clustered model's slices read its positions and facet
-/// normals); a
-/// moved-from SliceModel must not be sliced. The fast path assumes a valid complex (validate()).
+/// normals); a moved-from SliceModel must not be sliced. The fast path assumes a valid complex
+/// (validate()).
 class SliceModel {
  public:
   /// \throw InputError when a boundary table of `model` names an element that does not exist
   /// (Incidence::well_formed fails: ids out of range, offsets out of order, signs not +-1).
   explicit SliceModel(const Complex& model, const SliceModelOptions& options = {});
+  ~SliceModel();
+  SliceModel(SliceModel&&) noexcept;
+  SliceModel& operator=(SliceModel&&) noexcept;
+  SliceModel(const SliceModel& other);
+  SliceModel& operator=(const SliceModel& other);
 
-  const Complex& complex() const { return *model_; }
-  int dim() const { return dim_; }
+  /// The model this was compiled from.
+  const Complex& complex() const;
+  /// Its ambient dimension.
+  int dim() const;
   /// Whether the fast path can run on this model at all (R^3 or R^4, facet normals, every
   /// element below the facets bounds some element above, top rank n-1 or n).
-  bool fast() const { return fast_; }
-  std::size_t cluster_count() const { return cluster_vertex_.size() - 1; }
-  const Eigen::VectorXd& centre() const { return centre_; }
-  double radius() const { return radius_; }
+  bool fast() const;
+  /// Clusters of cells culled as a whole (1 when the model is not clustered).
+  std::size_t cluster_count() const;
+  /// Centre and radius of the model's bounding sphere (model space).
+  const Eigen::VectorXd& centre() const;
+  double radius() const;
   /// Whether this is the unclustered compilation of `model` as it is now: the same object and
   /// bit for bit the same positions, boundary tables and facet normals (a cheap linear check,
   /// for caches of compiled models).
@@ -92,97 +88,9 @@ class SliceModel {
 
  private:
   friend class Slicer;
-  struct Rank {
-    std::size_t count = 0;  // elements
-    // Rank 1 (the edges, [tail, head] with signs [-1, +1] in a fast model) keeps only its ids:
-    // its offsets (2 i) and signs are implied, those vectors empty.
-    std::vector<std::uint32_t> offsets, ids;
-    std::vector<std::int8_t> signs;
-    std::vector<std::uint32_t> model_id;  // internal id -> model id (empty: identity)
-  };
-  const Complex* model_;
-  std::uint64_t serial_;           // unique per SliceModel constructed, for the topology cache
-  std::uint64_t fingerprint_ = 0;  // model_fingerprint(*model_), handed to every slice
-  int dim_ = 0;
-  int top_ = 0;
-  bool fast_ = false;
-  // Vertices keep the model's ids. dim_ per vertex: a copy of the model's positions, or
-  // (clustered models) empty, the model's own read instead.
-  std::vector<double> positions_;
-  std::size_t nv_ = 0;
-  bool clustered_ = false;
-  const double* positions() const {
-    return positions_.empty() ? model_->positions().data() : positions_.data();
-  }
-  std::vector<Rank> ranks_;  // ranks_[k], k = 1..top_ (ranks_[0] unused)
-  // up_offsets_[k], up_ids_[k]: the rank k + 1 elements whose boundary holds each element of
-  // rank k (1 <= k < top_), so a slice visits only the elements its crossings reach; the top
-  // bit of an up_ids_ entry is set when the element's sign in that boundary is negative.
-  // When every element of rank k has the same number of cofaces, up_stride_[k] (else 0), its
-  // offsets are implied and up_offsets_[k] is empty: read them through up(k).
-  std::vector<std::vector<std::uint32_t>> up_offsets_, up_ids_;
-  std::vector<std::uint32_t> up_stride_;
-  struct Up {
-    const std::uint32_t* offsets;
-    const std::uint32_t* ids;
-    std::uint32_t stride;
-    std::uint32_t begin(std::uint32_t x) const { return stride ? x * stride : offsets[x]; }
-    std::uint32_t end(std::uint32_t x) const { return stride ? (x + 1) * stride : offsets[x + 1]; }
-  };
-  Up up(int k) const { return {up_offsets_[k].data(), up_ids_[k].data(), up_stride_[k]}; }
-  static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
-  bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
-  void build_cofaces();
-  // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
-  bool single_solid_ = false;
-  std::vector<std::int8_t> solid_sign_;  // R^3: each facet's sign in the single solid
-  void find_single_solid();
-  // dim_ per internal facet; empty when clustered (the complex's are read through the facets'
-  // model ids: renumbered models are never compared against the complex, see compiled_from).
-  std::vector<double> facet_normals_;
-  // The shortest and longest edge (slicer_detail::edge_length; NaN lengths left out): with them
-  // a crossing's weld and near-parallel tests (CrossingTest, src/slicer_detail.hpp) need the
-  // edge's own length only near the thresholds.
-  double edge_min_ = 0.0, edge_max_ = 0.0;
-  struct CrossingTest;
-  CrossingTest crossing_test(double near_parallel) const;
-  // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
-  // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
-  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
-  // face's position in the cell's boundary, bit 2 set when the face's section edge enters
-  // with -1). Empty otherwise.
-  std::vector<std::uint32_t> tet_vertices_;
-  std::vector<std::uint16_t> tet_cases_;
-  void build_tet_tables();
-  // Clusters: cluster c holds internal elements [begin_[k][c], begin_[k][c+1]) of rank k for
-  // 1 <= k <= dim_-1 and needs the vertices listed in cluster_vertices_[cluster_vertex_[c] ...
-  // cluster_vertex_[c + 1]); ranks above the facets are always processed. One cluster (no
-  // reordering) for small models. A cluster's list is its vertex ids in increasing order, each
-  // as its difference from the previous one (the first from -1) in one 16-bit word, or in two
-  // when it is 2^15 or more (the first with the top bit set, holding the high bits).
-  std::vector<std::vector<std::uint32_t>> begin_;
-  std::vector<std::uint32_t> cluster_vertex_;
-  std::vector<std::uint16_t> cluster_vertices_;
-  void add_cluster(std::span<const std::uint32_t> vertices);  // (ascending)
-  // Calls f(v) for the vertices of cluster c in increasing order while it returns true; false
-  // when it stopped.
-  template <class F>
-  bool each_cluster_vertex(std::uint32_t c, F&& f) const {
-    const std::uint16_t* w = cluster_vertices_.data();
-    std::uint32_t v = 0xffffffffu;
-    for (std::uint32_t i = cluster_vertex_[c], end = cluster_vertex_[c + 1]; i < end;) {
-      std::uint32_t d = w[i++];
-      if (d & 0x8000u) d = (d & 0x7fffu) << 16 | w[i++];
-      v += d;
-      if (!f(v)) return false;
-    }
-    return true;
-  }
-  std::vector<double> cluster_sphere_;  // (dim_ centre, radius) per cluster
-  Eigen::VectorXd centre_;
-  double radius_ = 0.0;
-  double max_norm_ = 0.0;  // sqrt of the largest squared vertex norm (tolerance scale)
-  double weld_ = 0.0;      // tol::weld_rel * bounding-box diagonal
+  friend class SceneSlicer;
+  struct Compiled;  // the compiled arrays (src/slice_model_compiled.hpp)
+  std::unique_ptr<Compiled> compiled_;
 };
 
 /// The flat section a Slicer writes: the same complex, frame, provenance and facet normals as
@@ -251,14 +159,25 @@ struct SliceOptions {
   bool kernel = true;
 };
 
-/// Scratch space for slicing; one per thread. Not thread-safe itself.
+/// Scratch space for slicing, owned by the caller: one per thread, not thread-safe itself.
+/// Keep one Slicer (and one SliceBuffers per output) for the slices of a model or an animation:
+/// its buffers grow to the model's size once, after which slicing allocates nothing. Cheap to
+/// move; copying copies the scratch.
 class Slicer {
  public:
+  Slicer();
+  ~Slicer();
+  Slicer(Slicer&&) noexcept;
+  Slicer& operator=(Slicer&&) noexcept;
+  Slicer(const Slicer& other);
+  Slicer& operator=(const Slicer& other);
+
   /// Cuts `model` placed by model_to_world with the world-space plane into `out`.
   /// \throw InputError as section().
   void slice(const SliceModel& model, const Hyperplane& plane,
              const AffineTransform& model_to_world, SliceBuffers& out,
              const SliceOptions& options = {});
+  /// Cuts `model` in place (the identity placement) with the plane into `out`.
   void slice(const SliceModel& model, const Hyperplane& plane, SliceBuffers& out,
              const SliceOptions& options = {});
 
@@ -280,185 +199,20 @@ class Slicer {
              std::span<const double> offsets, const AffineTransform& model_to_world,
              std::vector<SliceBuffers>& out, unsigned threads = 1);
 
-  /// Fast-path slices since construction, and how many of them the topology cache answered.
-  std::size_t fast_slices() const { return fast_count_; }
-  std::size_t cached_slices() const { return cached_count_; }
-  /// Faces and cells the specialised kernel cut, and those it passed to the generic gathering.
-  std::size_t kernel_elements() const { return kernel_count_; }
-  std::size_t generic_elements() const { return generic_count_; }
+  /// Fast-path slices since construction.
+  std::size_t fast_slices() const;
+  /// Of those, the slices the topology cache answered.
+  std::size_t cached_slices() const;
+  /// Faces and cells the specialised kernel cut since construction.
+  std::size_t kernel_elements() const;
+  /// Faces and cells the kernel passed to the generic gathering since construction.
+  std::size_t generic_elements() const;
 
  private:
-  struct Term {
-    std::uint32_t id;
-    int coef;
-  };
-  struct Image {
-    std::uint32_t gen = 0, begin = 0, count = 0;
-  };
-  struct Step {
-    std::uint32_t tail, head, edge;
-    int sign;
-    bool used;
-  };
-  struct Placement;  // the plane in model space and the output maps (src/slicer_detail.hpp)
-  bool fast_slice(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                  SliceBuffers& out);
-  void prepare(const SliceModel& m);
-  void size_images(const SliceModel& m);  // (prepare leaves ranks 1, 2 to it in R^4)
-  void clear_marks(const SliceModel& m);
-  void start_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
-  void start_kernel_buffers(const SliceModel& m, const Placement& pl, SliceBuffers& out);
-  // The crossing parameter of edge e from s_; false when it lies within the weld distance of
-  // an end (the general path welds it).
-  bool crossing(const SliceModel& m, std::uint32_t e, double* t) const;
-  bool add_crossing(const SliceModel& m, std::uint32_t e, SliceBuffers& out);
-  bool cut_upper(const SliceModel& m, const Placement& pl, SliceBuffers& out, int from = 2);
-  // The specialised kernel of a slice in R^4 (after the vertex pass): 1 when it made the
-  // buffers, 0 when the slice needs the general path (reason_ set), -1 when it met something
-  // only the generic gathering decides (the caller clears the marks and runs that instead).
-  // marked_edges: the crossing edges are those marked in mark_[1] (a sweep's active edges).
-  int kernel_slice(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                   bool marked_edges = false);
-  bool reuse(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-             SliceBuffers& out);
-  void slice_placed(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                    SliceBuffers& out, const SliceOptions& options);
-  void general_slice(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                     SliceBuffers& out);
-  bool emit_element(const SliceModel& m, int k, std::uint32_t x, SliceBuffers& out,
-                    std::vector<std::uint32_t>& facets, std::vector<Term>& image);
-  bool emit_loops(std::span<Term> chain, std::uint32_t source, SliceBuffers& out,
-                  std::vector<Term>& image);
-  bool finish_fast(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                   std::span<const std::uint32_t> section_edge,
-                   std::span<const std::uint32_t> facet_internal);
-  // The section vertices' positions and (facets: true) the facet normals of facet_internal;
-  // facets: false leaves out.facet_normals as it is (a sweep writes them itself).
-  bool write_geometry(const SliceModel& m, const Placement& pl, SliceBuffers& out,
-                      std::span<const std::uint32_t> section_edge,
-                      std::span<const std::uint32_t> facet_internal, bool facets = true);
-  void remember(const SliceModel& m, const Placement& pl, SliceBuffers& out);
-  void sweep_layers(const SliceModel& m, const Hyperplane& plane, const AffineTransform& xf,
-                    std::span<const double> offsets, std::span<const std::uint32_t> layers,
-                    std::vector<SliceBuffers>& out);
-
-  std::uint32_t gen_ = 0;
-  // tol::near_parallel_edge * |A^T n|: a crossing edge with |s_a - s_b| below this times its
-  // length is nearly parallel to the plane, left to the general path (section_general).
-  double near_parallel_ = 0.0;
-  std::vector<double> s_;
-  std::vector<std::int8_t> side_;
-  std::vector<std::vector<Image>> images_;  // images_[k][internal element of rank k]
-  std::vector<std::vector<Term>> terms_;    // terms_[k]: storage of the images of rank k
-  std::vector<Term> chain_, image_;
-  std::vector<Step> steps_;
-  std::vector<std::uint32_t> touched_;
-  std::vector<std::vector<std::uint64_t>> mark_;  // mark_[k]: rank k elements to visit (bits)
-  void mark_parents(const SliceModel& m, int k, std::uint32_t x);
-  bool fast_slice_marked(const SliceModel& m, const Placement& pl, const SliceOptions& options,
-                         SliceBuffers& out);
-  std::vector<std::uint32_t> section_edge_;    // internal model edge of each section vertex
-  std::vector<std::uint32_t> facet_internal_;  // internal model facet of each section facet
-  std::vector<std::uint32_t> row_ids_;
-  std::vector<std::int8_t> row_signs_;
-  // sweep scratch: vertex heights, per layer (in offset order) the model-space offset and ON
-  // band, the edges bucketed by the layer where they start crossing, the active edges.
-  std::vector<double> height_, layer_d_, layer_tol_, edge_top_;
-  std::vector<std::uint32_t> edge_start_, bucket_offsets_, bucket_ids_, active_, bucket_fill_;
-  std::vector<char> layer_bad_;
-  std::vector<std::uint32_t> sweep_order_;
-  std::vector<Slicer> helpers_;  // one per extra sweep thread, kept between sweeps
-  // The output-sensitive sweep in R^4 (src/sweep.cpp): the section's structure in model terms
-  // (crossing edges, each cut face's two crossing edges, each cut cell's loop of faces), kept
-  // from layer to layer and updated only in the star of each vertex the plane passes.
-  struct SweepSlot {
-    std::uint32_t element, index;
-  };
-  struct SweepState {
-    // The model's incidences, built once per model (serial): the (edge, other end) at each
-    // vertex, the (face, row entry) of each edge, the (cell, row entry) of each face, and the
-    // rows' entries in the form the passes read (see sweep_incidences).
-    std::uint64_t model = 0;
-    std::vector<std::uint32_t> vertex_edge_offsets, edge_face_offsets, face_cell_offsets;
-    std::vector<SweepSlot> vertex_edges, edge_faces, face_cells, face_entries;
-    std::vector<std::uint32_t> cell_entries;
-    // Per sweep: the layer (in the thread's offset order) from which each vertex is below the
-    // plane, the vertices grouped by that layer.
-    std::vector<std::uint32_t> vertex_layer, layer_vertex_offsets, by_layer;
-    std::vector<std::uint8_t> edge_in, face_state, cell_state;  // 0 uncut, 1 cut, 2 not kernel
-    // Row entries (bits over the face rows' and cell rows' entries) whose edge crosses, whose
-    // face is cut: a face or cell reads only those.
-    std::vector<std::uint64_t> face_row_bits, cell_row_bits;
-    std::vector<std::uint32_t> edges, faces, cells;                     // the cut ones, ascending
-    std::vector<std::uint32_t> face_ends, cell_loop, cell_size, loops;  // face_ends: tail, head
-    std::vector<std::int8_t> loop_signs, merged_signs;  // each loop entry's sign in its polygon
-    std::vector<std::uint32_t> stamp_f, stamp_c, loop_stamp, loop_head, loop_entry;
-    std::vector<std::uint32_t> near_f, near_c, merged, steps;
-    std::vector<std::uint32_t> vertex_index, edge_index;
-    std::vector<std::uint64_t> edge_bits, face_bits, cell_bits;  // the cut ones (when rebuilding)
-    std::vector<std::uint32_t> toggled, spare;  // ids whose membership switched; list scratch
-    // Each cell's section facet normal for the sweep's normal, and 1 (0: nearly parallel).
-    std::vector<double> cell_normal;
-    std::size_t live = 0;  // entries of the cut cells' loops
-    std::uint32_t stamp = 0, loop_gen = 0, bad = 0;
-  };
-  SweepState sweep_;
-  void sweep_events(const SliceModel& m, Placement& pl, std::span<const double> offsets,
-                    std::span<const std::uint32_t> layers, std::vector<SliceBuffers>& out,
-                    const AffineTransform& xf, const Hyperplane& plane);
-  void sweep_update(const SliceModel& m, std::span<const std::uint32_t> moved, bool rebuild);
-  // slice() from the normal's part of the placement on (made by slice_placed, or cached by a
-  // SceneSlicer); xf == nullptr: the identity.
   friend class SceneSlicer;
-  void slice_with(const SliceModel& m, Placement& pl, const Hyperplane& plane,
-                  const AffineTransform* xf, SliceBuffers& out, const SliceOptions& options);
-  void general_from(const SliceModel& m, const Hyperplane& plane, const AffineTransform* xf,
-                    SliceBuffers& out);
-  std::uint8_t sweep_face(const SliceModel& m, std::uint32_t f);
-  std::uint8_t sweep_cell(const SliceModel& m, std::uint32_t c);
-  void sweep_incidences(const SliceModel& m);
-  void sweep_normals(const SliceModel& m, const Placement& pl);
-  std::size_t fast_count_ = 0, cached_count_ = 0, kernel_count_ = 0, generic_count_ = 0;
-  FallbackReason reason_ = FallbackReason::None;
-  bool fail(FallbackReason r) {
-    reason_ = r;
-    return false;
-  }
-  bool kernel_ = true;
-  // Kernel scratch: per section vertex the step leaving it in the current cell (stamped), per
-  // section edge a stamp (a face listed twice in a cell goes to the generic gathering).
-  std::uint32_t stamp_ = 0;
-  std::vector<std::uint32_t> vertex_stamp_, vertex_next_, edge_stamp_;
-  // kernel_slice scratch: per model face the crossings handed to it (count in face_mark_, the
-  // two section vertices | coefficient bit in face_ends_) and, while its cells are cut, its
-  // section edge (face_edge_; no_index when uncut), per model cell a mark (cell_mark_), per
-  // section vertex the step leaving it in the current cell (stamped; large cells only).
-  struct LoopStep {
-    std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
-  };
-  std::vector<std::uint32_t> face_ends_, face_edge_;
-  bool face_edge_stale_ = false;           // a tetrahedral model's slice left face_edge_ unreset
-  std::vector<std::uint32_t> face_list_;   // the faces to cut
-  std::vector<std::uint32_t> visit_list_;  // the cells to cut
-  std::vector<std::uint32_t> crossing_ids_;
-  std::vector<std::uint8_t> face_mark_, cell_mark_;
-  std::vector<LoopStep> loop_step_;
-  // Per cut cell (not a table's tetrahedron) of the slice the steps its cut faces handed it,
-  // in cell_steps_ from cell_start_ up to cell_fill_ (placed by the cell's first cut face,
-  // with room for its whole row; valid while the cell is marked).
-  struct CellStep {
-    std::uint32_t tail, head, edge;
-  };
-  std::vector<CellStep> cell_steps_;
-  std::vector<std::uint32_t> cell_fill_, cell_start_;
-  // The kernel's pass over the cut faces (kernel.cpp): Stride is the number of cells above
-  // every face when the model has one (2 in a closed manifold), 0 when it varies. Returns the
-  // first face not done: nse, or a face whose cells' buckets did not fit (room to grow).
-  struct FaceHand;
-  template <bool Buckets, std::uint32_t Stride>
-  static std::uint32_t hand_faces(FaceHand& h, std::uint32_t se);
-  void
-  forget_stamps();  // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_, loop_step_
+  struct Placement;  // the plane in model space and the output maps (src/slicer_detail.hpp)
+  class Impl;        // the scratch, the sweep state and the passes (src/slicer_impl.hpp)
+  std::unique_ptr<Impl> impl_;
 };
 
 /// What SceneSlicer::slice gives: the sections of the objects it did not cull, in increasing
@@ -471,7 +225,6 @@ struct SceneSlice {
   std::vector<SliceBuffers> buffers;   ///< buffers[k]: the section of object objects[k]
   std::size_t size() const { return objects.size(); }
 };
-#define CW4D_SCENE_SLICE 1
 
 /// One Section per object of a scene of `count` objects: to_section of its buffers for the
 /// objects in slice.objects (each below count), the empty section in the frame of slice.plane
@@ -481,11 +234,17 @@ std::vector<Section> to_sections(const SceneSlice& slice, std::size_t count);
 /// A scene compiled for repeated slicing: one SliceModel per distinct model, a copy of every
 /// object's placement and its world-space bounding sphere. A snapshot: objects moved later are
 /// not seen (build a new SceneSlicer, or slice their models with a Slicer). Keeps references to
-/// the scene's models, which must outlive it.
+/// the scene's models, which must outlive it. Holds its own Slicers and spare buffers; one per
+/// thread of the caller, not thread-safe itself.
 class SceneSlicer {
  public:
   explicit SceneSlicer(const Scene& scene, const SliceModelOptions& options = {});
-  std::size_t size() const { return model_of_.size(); }
+  ~SceneSlicer();
+  SceneSlicer(SceneSlicer&&) noexcept;
+  SceneSlicer& operator=(SceneSlicer&&) noexcept;
+
+  /// The number of objects of the scene.
+  std::size_t size() const;
   /// Cuts the objects whose bounding sphere meets the plane (every object when options.cull is
   /// false) into `out`: out.objects lists them, out.buffers[k] is exactly what Slicer::slice
   /// gives for object out.objects[k] (identical for every thread count and with or without
@@ -502,26 +261,13 @@ class SceneSlicer {
   void slice(const Hyperplane& plane, SceneSlice& out, unsigned threads = 1,
              const SliceOptions& options = {});
   /// Objects the last slice() did not cull.
-  std::size_t touched() const { return touched_.size(); }
+  std::size_t touched() const;
   /// Their indices, increasing (the last slice's SceneSlice::objects).
-  std::span<const std::uint32_t> touched_objects() const { return touched_; }
+  std::span<const std::uint32_t> touched_objects() const;
 
  private:
-  std::vector<std::unique_ptr<SliceModel>> models_;
-  std::vector<const SliceModel*> model_of_;  // per object
-  std::vector<AffineTransform> transforms_;  // copied: the scene may move its objects afterwards
-  std::vector<double> centres_;              // world-space bounding-sphere centres, dim_ per object
-  std::vector<double> reach_;                // their radii plus the culling margin
-  std::vector<Slicer> slicers_;
-  std::vector<std::uint32_t> touched_;
-  // Buffers between calls: those no object of the output needs (their storage kept), and the
-  // vector the output's buffers are rearranged into.
-  std::vector<SliceBuffers> spare_, arranged_;
-  std::vector<std::uint32_t> need_, left_;  // arrange()'s: new entries, held entries free
-  void arrange(SceneSlice& out);
-  struct Placements;  // the touched objects' placements for the last normal (scene_slicer.cpp)
-  std::shared_ptr<Placements> placements_;
-  int dim_ = 0;
+  class Impl;  // models, placements, culling state, slicers and spare buffers (scene_slicer.cpp)
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace cw4d
