@@ -157,7 +157,6 @@ class TetSlicer {
  private:
   std::unique_ptr<Scratch> scratch_;
 };
-#define CW4D_TET_SLICER 1
 
 /// The slices of TetSlicer through one TetSlicer per thread (kept between calls).
 TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane,
@@ -166,11 +165,9 @@ TetSection slice_tets(const TetMesh& mesh, const Hyperplane& plane);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSection& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSection& out);
-#define CW4D_TET_SLICE_INTO 1
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& model_to_world,
                 TetSliceMesh& out);
 void slice_tets(const TetMesh& mesh, const Hyperplane& plane, TetSliceMesh& out);
-#define CW4D_TET_SLICE_INDEXED 1
 
 /// The slice as a Section of `model` (the complex the mesh was made from): a 3D complex of the
 /// triangles with welded vertices, source cells in source[2], facet normals (the projected cell
