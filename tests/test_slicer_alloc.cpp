@@ -1,63 +1,14 @@
 // The hot path allocates nothing once warm: global operator new is counted in this executable.
 #include <catch2/catch.hpp>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <random>
 #include <vector>
 
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
+#include "support/counting_new.hpp"
 #include "support/planes.hpp"
-
-namespace {
-std::atomic<std::size_t> allocations{0};
-}
-
-// Every replaceable form that pairs with free(), so no allocation escapes the count and no
-// sanitizer sees an operator new of its own released by ours (or the other way round).
-// (The aligned forms are left alone: they allocate and free through their own pair.)
-namespace {
-void* counted(std::size_t size) {
-  ++allocations;
-  return std::malloc(size ? size : 1);
-}
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (void* p = counted(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  if (void* p = counted(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  return counted(size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  return counted(size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
 
 using namespace cw4d;
 
@@ -83,9 +34,9 @@ TEST_CASE("slicing allocates nothing after warm-up", "[slicer][alloc]") {
       for (const auto& p : planes) slicer.slice(compiled, p, out);  // identity placement
     };
     run();  // warm-up: the buffers grow to their largest
-    const std::size_t before = allocations.load();
+    const std::size_t before = test::allocation_count();
     run();
-    CHECK(allocations.load() - before == 0);
+    CHECK(test::allocation_count() - before == 0);
     // All generic planes: nothing fell back to the general path (which allocates).
     CHECK(slicer.fast_slices() + slicer.cached_slices() == 6 * planes.size());
   }
@@ -107,9 +58,9 @@ TEST_CASE("section() allocates only the arrays of the Section it returns", "[sli
                                         std::uniform_real_distribution<double>(-0.5, 0.5)(rng)));
     for (const auto& p : planes) (void)section(model, p);  // warm-up: scratch and compiled model
     for (const auto& p : planes) {
-      const std::size_t before = allocations.load();
+      const std::size_t before = test::allocation_count();
       const Section s = section(model, p);
-      const std::size_t made = allocations.load() - before;
+      const std::size_t made = test::allocation_count() - before;
       std::size_t arrays = 0;
       const auto count = [&](const auto& v) { arrays += v.empty() ? 0 : 1; };
       const Complex& c = s.complex;
@@ -129,14 +80,14 @@ TEST_CASE("section() allocates only the arrays of the Section it returns", "[sli
 }
 
 TEST_CASE("a new complex and a new boundary table allocate nothing", "[complex][alloc]") {
-  const std::size_t before = allocations.load();
+  const std::size_t before = test::allocation_count();
   const Incidence table;
-  CHECK(allocations.load() - before == 0);
+  CHECK(test::allocation_count() - before == 0);
   Complex c(3);  // no tables, no colors: nothing allocated either
-  CHECK(allocations.load() - before == 0);
-  const std::size_t with_complex = allocations.load();
+  CHECK(test::allocation_count() - before == 0);
+  const std::size_t with_complex = test::allocation_count();
   c.boundary_mut(3);  // three empty tables: only the list that holds them is allocated
-  CHECK(allocations.load() - with_complex == 1);
+  CHECK(test::allocation_count() - with_complex == 1);
   CHECK(c.top_rank() == 3);
   for (int r = 1; r <= 3; ++r) CHECK(c.boundary(r).offsets() == std::vector<std::uint32_t>{0});
 }

@@ -23,85 +23,8 @@
 #include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
+#include "support/counting_new.hpp"
 #include "support/temp_dir.hpp"
-
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
-
-// Every allocation of this program through operator new is counted (std::vector and the other
-// standard containers allocate through it; Eigen's dynamic matrices use malloc and are checked
-// by their data pointers below).
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  return ::operator new(n);
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const auto al = static_cast<std::size_t>(a);
-  if (void* p = std::aligned_alloc(al, (n + al - 1) / al * al)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n, std::align_val_t a) {
-  return ::operator new(n, a);
-}
-// The nothrow forms too: every form must pair with the deletes below (the sanitizers check
-// that what one form allocates, the matching form frees).
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n == 0 ? 1 : n);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept {
-  return ::operator new(n, t);
-}
-void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const auto al = static_cast<std::size_t>(a);
-  return std::aligned_alloc(al, (n + al - 1) / al * al);
-}
-void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t& t) noexcept {
-  return ::operator new(n, a, t);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
 
 using namespace cw4d;
 
@@ -142,7 +65,7 @@ TEST_CASE("tet slicer: no allocation once the buffers have grown", "[tet][slicer
     TetSection soup;
     // First round: every buffer grows to its largest size over these planes (which the
     // counter sees: it counts this program's allocations).
-    const std::size_t at_start = g_allocations.load();
+    const std::size_t at_start = test::allocation_count();
     std::size_t triangles = 0;
     for (const auto& p : planes) {
       slicer.slice(mesh, p, out);
@@ -151,19 +74,19 @@ TEST_CASE("tet slicer: no allocation once the buffers have grown", "[tet][slicer
       slicer.slice(mesh, p, soup);
     }
     REQUIRE(triangles > 0);
-    CHECK(g_allocations.load() > at_start);
+    CHECK(test::allocation_count() > at_start);
     const void* data[] = {out.positions.data(),    out.triangles.data(), out.normals.data(),
                           out.uvw.data(),          out.tet.data(),       out.cell.data(),
                           out.vertex_source.data()};
     // Second round: nothing allocated through operator new, no array moved.
-    const std::size_t before = g_allocations.load();
+    const std::size_t before = test::allocation_count();
     std::size_t again = 0;
     for (const auto& p : planes) {
       slicer.slice(mesh, p, out);
       again += out.triangle_count();
       slicer.slice(mesh, p, xf, out);
     }
-    const std::size_t allocated = g_allocations.load() - before;
+    const std::size_t allocated = test::allocation_count() - before;
     CHECK(allocated == 0);
     CHECK(again == triangles);
     const void* after[] = {out.positions.data(),    out.triangles.data(), out.normals.data(),
@@ -171,9 +94,9 @@ TEST_CASE("tet slicer: no allocation once the buffers have grown", "[tet][slicer
                            out.vertex_source.data()};
     for (std::size_t i = 0; i < 7; ++i) CHECK(after[i] == data[i]);
     // The soup: its vectors keep their storage too (its matrices are sized to each slice).
-    const std::size_t before_soup = g_allocations.load();
+    const std::size_t before_soup = test::allocation_count();
     for (const auto& p : planes) slicer.slice(mesh, p, soup);
-    CHECK(g_allocations.load() - before_soup == 0);
+    CHECK(test::allocation_count() - before_soup == 0);
   }
 }
 
