@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -254,6 +255,10 @@ void set_frame(HyperplaneFrame& f, const Hyperplane& p) {
   hyperplane_basis(p.normal.data(), 4, f.basis.data());
 }
 
+// The four bytes 1, 2, 4, 8 in memory order, as one word (the up bytes of a positive vertex).
+constexpr std::uint32_t kUpBytes =
+    std::endian::native == std::endian::little ? 0x08040201u : 0x01020408u;
+
 Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
                  const HyperplaneFrame& frame, Scratch& sc) {
   if (plane.dim() != 4)
@@ -289,8 +294,9 @@ Prepared prepare(const TetMesh& mesh, const Hyperplane& plane, const AffineTrans
     assert(static_cast<int>(classify_side(sv[v], tolerance)) ==
            static_cast<int>(pos) - static_cast<int>(neg));
     sd[v] = static_cast<Side>(static_cast<int>(pos) - static_cast<int>(neg));
-    // (byte k: the positive bit shifted to corner k's place in a sign mask)
-    for (unsigned k = 0; k < 4; ++k) up[4 * v + k] = static_cast<std::uint8_t>(pos << k);
+    // (byte k: the positive bit shifted to corner k's place in a sign mask; one store)
+    const std::uint32_t word = pos * kUpBytes;
+    std::memcpy(up + 4 * v, &word, sizeof word);
     any_neg |= neg;
     any_pos |= pos;
     any_on |= (pos | neg) ^ 1u;
@@ -458,13 +464,15 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   CutRecord* __restrict list3 = sc.list3.data();
   CutRecord* __restrict list4 = sc.list4.data();
   const std::uint32_t* tet_cell = mesh.tet_cell.data();
-  // Per cut tetrahedron: its cell's claim and a record of what its triangles read, in the list of
-  // its case (one triangle or a quad).
+  // Per cut tetrahedron: its cell's claim, a record of what its triangles read, in the list of
+  // its case (one triangle or a quad), and the claims of its corner slots.
   std::size_t n3 = 0, n4 = 0;
   std::uint32_t first = 0;
+  bool stale = false;  // an edge id out of range (no branch)
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
-    const unsigned tris = table[cut[i] & 15u].tris;
+    const IndexedCase& ic = table[cut[i] & 15u];
+    const unsigned tris = ic.tris;
     const std::uint32_t cell = tet_cell[t];
     cell_owner[cell] = static_cast<std::uint32_t>(i);
     const CutRecord rec{cut[i], first, cell, static_cast<std::uint32_t>(i)};
@@ -473,13 +481,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     first += tris;
     n3 += tris == 1;
     n4 += tris == 2;
-  }
-  const std::size_t tris = first;
-  // The claims of the corner slots.
-  bool stale = false;  // an edge id out of range (no branch)
-  for (std::size_t i = 0; i < ncut; ++i) {
-    const IndexedCase& ic = table[cut[i] & 15u];
-    const auto& te = tet_edges[cut[i] >> 4];
+    const auto& te = tet_edges[t];
     for (std::size_t k = 0; k < 4; ++k) {
       const std::uint32_t e0 = te[ic.local[k]];
       const std::uint32_t e = e0 < ne ? e0 : 0u;
@@ -488,6 +490,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       owner[e] = static_cast<std::uint32_t>(4 * i + k);
     }
   }
+  const std::size_t tris = first;
   if (stale) return false;
   out.triangles.resize(3 * tris);
   out.normals.resize(3 * tris);
