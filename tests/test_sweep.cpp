@@ -433,3 +433,38 @@ TEST_CASE("sweep: layers whose crossings lie within the weld distance of a verte
   CHECK(weld > 50);
   CHECK(counts.layers - counts.general - counts.empty > 5000);
 }
+
+TEST_CASE("sweep: a star polychoron, and the atlas's layers (every vertex height and between)",
+          "[slicer][sweep]") {
+  // The layers section_atlas sweeps: each distinct vertex height (a vertex on the plane: the
+  // general path) and the midpoint above it (every layer passes vertices), on a convex model
+  // and on a star polychoron whose faces and cells cross each other, placed, with a layer list
+  // that is unsorted, repeats offsets and reaches beyond the model.
+  std::mt19937 rng(20261206);
+  Counts counts;
+  for (const std::string spec : {"great grand stellated 120-cell", "24-cell"}) {
+    INFO(spec);
+    const Complex model = load_model(spec);
+    const SliceModel compiled(model, SliceModelOptions::unclustered());
+    const Eigen::VectorXd normal = test::random_unit(rng, 4);
+    const AffineTransform xf = placement(rng, false);
+    std::vector<double> h = heights(model, normal, xf);
+    h.erase(std::unique(h.begin(), h.end()), h.end());
+    std::vector<double> d;
+    for (std::size_t i = 0; i < h.size(); ++i) {
+      d.push_back(h[i]);
+      if (i + 1 < h.size()) d.push_back(0.5 * h[i] + 0.5 * h[i + 1]);
+    }
+    if (d.size() > 96) d.resize(96);
+    check_sweep(compiled, normal, d, xf, counts);
+    const double span = h.back() - h.front();
+    d.push_back(h.back() + 0.25 * span);
+    d.push_back(h.front() - 0.25 * span);
+    d.push_back(d[5]);
+    std::shuffle(d.begin(), d.end(), rng);
+    check_sweep(compiled, normal, d, xf, counts);
+  }
+  CHECK(counts.general > 0);
+  CHECK(counts.empty >= 4);
+  CHECK(counts.layers - counts.general - counts.empty > 50);
+}
