@@ -432,7 +432,7 @@ TEST_CASE("sweep: layers whose crossings lie within the weld distance of a verte
     }
   }
   CHECK(weld > 50);
-  CHECK(counts.layers - counts.general - counts.empty > 5000);
+  CHECK(counts.layers - counts.general - counts.empty > 3000);
 }
 
 TEST_CASE("sweep: a star polychoron, and the atlas's layers (every vertex height and between)",
