@@ -12,6 +12,11 @@
 //            TetSliceMesh where the headers have it, else the TetSection soup)
 //   sweep    Slicer::sweep of 256 parallel layers (bench_compare's sweep), one sweep a round
 //   sweep-slices  the same 256 layers as 256 calls of Slicer::slice, a round
+//   sweep-copy    the same 256 layers copied (SliceBuffers assignment into buffers kept from
+//            round to round) from one sweep made before counting: the cost of writing the
+//            output alone, the floor of any sweep that writes every layer's arrays
+//   atlas    section_atlas along the sweep's normal, one atlas a round (so the count of one
+//            atlas is (ROUNDS = 3 minus ROUNDS = 1) / 2, not / 512)
 // The count of one operation is (count at ROUNDS = 3 minus count at ROUNDS = 1) / 512: the
 // model's loading, compilation and the warm-up cancel out. Only API that both trees have is
 // used (newer entry points where the headers announce them), as in bench_compare.cpp.
@@ -25,6 +30,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/transform.hpp"
+#include "cw4d/section/atlas.hpp"
 #include "cw4d/section/section.hpp"
 #include "cw4d/section/slicer.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
@@ -34,7 +40,9 @@ namespace {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: bench_instructions slice|section|tet|sweep|sweep-slices MODEL ROUNDS\n");
+               "usage: bench_instructions slice|section|tet|sweep|sweep-slices|sweep-copy|atlas "
+               "MODEL "
+               "ROUNDS\n");
   return 2;
 }
 
@@ -72,7 +80,7 @@ int main(int argc, char** argv) {
         cut(p);
         sink += out.triangle_count();
       }
-  } else if (mode == "sweep" || mode == "sweep-slices") {
+  } else if (mode == "sweep" || mode == "sweep-slices" || mode == "sweep-copy") {
     const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
     cw4d::Slicer slicer;
     Eigen::VectorXd normal(4);
@@ -85,8 +93,13 @@ int main(int argc, char** argv) {
     const cw4d::AffineTransform id = cw4d::AffineTransform::identity(4);
     std::vector<cw4d::SliceBuffers> layers;
     const bool sweep = mode == "sweep";
+    std::vector<cw4d::SliceBuffers> made;
+    if (mode == "sweep-copy") slicer.sweep(compiled, normal, offsets, id, made);
     auto round = [&] {
-      if (sweep) {
+      if (!made.empty()) {
+        layers.resize(made.size());
+        for (std::size_t i = 0; i < made.size(); ++i) layers[i] = made[i];
+      } else if (sweep) {
         slicer.sweep(compiled, normal, offsets, id, layers);
       } else {
         layers.resize(offsets.size());
@@ -97,6 +110,11 @@ int main(int argc, char** argv) {
     };
     round();
     for (int r = 0; r < rounds; ++r) round();
+  } else if (mode == "atlas") {
+    Eigen::VectorXd normal(4);
+    normal << 0.5377, 1.8339, -2.2588, 0.8622;
+    sink += cw4d::section_atlas(model, normal).intervals.size();
+    for (int r = 0; r < rounds; ++r) sink += cw4d::section_atlas(model, normal).intervals.size();
   } else {
     return usage();
   }

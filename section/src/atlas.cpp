@@ -6,6 +6,7 @@
 
 #include "cw4d/complex/error.hpp"
 #include "cw4d/section/hyperplane.hpp"
+#include "cw4d/section/slicer.hpp"
 
 namespace cw4d {
 
@@ -66,14 +67,43 @@ Atlas section_atlas(const Complex& model, const Eigen::VectorXd& normal,
   atlas.critical_offsets = critical_offsets(model, normal, model_to_world, &atlas.tolerance);
   atlas.normal = Hyperplane::from(normal, 0.0).normal;
   const int n = model.ambient_dim();
+  const auto& c = atlas.critical_offsets;
+  // The cuts in increasing offset order: each critical offset (when asked for) and the
+  // midpoint of the interval above it.
+  std::vector<double> offsets;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (options.critical_sections) offsets.push_back(c[i]);
+    if (i + 1 < c.size()) offsets.push_back(0.5 * c[i] + 0.5 * c[i + 1]);
+  }
+  const std::size_t per = options.critical_sections ? 2 : 1;  // cuts per critical offset
+  const SliceModel compiled(model, SliceModelOptions::unclustered());
+  if (compiled.fast()) {
+    // One sweep: every layer is exactly the slice section() makes of its plane, and the
+    // sweep renews the section only around the vertices between two layers.
+    Slicer slicer;
+    std::vector<SliceBuffers> layers;
+    slicer.sweep(compiled, atlas.normal, offsets, model_to_world, layers);
+    const auto fvector = [&](const SliceBuffers& b) {
+      std::vector<std::size_t> f(static_cast<std::size_t>(std::max(n - 1, 1)), 0);
+      for (std::size_t k = 0; k < f.size(); ++k) f[k] = b.count(static_cast<int>(k));
+      return f;
+    };
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (options.critical_sections) atlas.critical.push_back({c[i], fvector(layers[per * i])});
+      if (i + 1 == c.size()) break;
+      const std::size_t k = per * i + per - 1;
+      atlas.intervals.push_back({c[i], c[i + 1], {offsets[k], fvector(layers[k])}});
+      if (options.keep_sections) atlas.sections.push_back(to_section(layers[k]));
+    }
+    return atlas;
+  }
   const auto cut = [&](double d) {
     return section(model, Hyperplane::from(atlas.normal, d), model_to_world);
   };
-  const auto& c = atlas.critical_offsets;
-  if (options.critical_sections)
-    for (double d : c) atlas.critical.push_back({d, section_fvector(cut(d), n)});
-  for (std::size_t i = 0; i + 1 < c.size(); ++i) {
-    const double mid = 0.5 * c[i] + 0.5 * c[i + 1];
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (options.critical_sections) atlas.critical.push_back({c[i], section_fvector(cut(c[i]), n)});
+    if (i + 1 == c.size()) break;
+    const double mid = offsets[per * i + per - 1];
     Section s = cut(mid);
     atlas.intervals.push_back({c[i], c[i + 1], {mid, section_fvector(s, n)}});
     if (options.keep_sections) atlas.sections.push_back(std::move(s));
