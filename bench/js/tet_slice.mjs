@@ -112,10 +112,22 @@ function emit(src, a, b, alpha, P, N, U, c) {
   U[q + 3] = beta * src[a + 11] + alpha * src[b + 11];
 }
 
+// Output corner `to` = corner `from` (element by element: a typed array's copyWithin is a call
+// into the runtime, far slower for four floats).
 function copy4(P, N, U, from, to) {
-  P.copyWithin(4 * to, 4 * from, 4 * from + 4);
-  N.copyWithin(4 * to, 4 * from, 4 * from + 4);
-  U.copyWithin(4 * to, 4 * from, 4 * from + 4);
+  const f = 4 * from, q = 4 * to;
+  P[q] = P[f];
+  P[q + 1] = P[f + 1];
+  P[q + 2] = P[f + 2];
+  P[q + 3] = P[f + 3];
+  N[q] = N[f];
+  N[q + 1] = N[f + 1];
+  N[q + 2] = N[f + 2];
+  N[q + 3] = N[f + 3];
+  U[q] = U[f];
+  U[q + 1] = U[f + 1];
+  U[q + 2] = U[f + 2];
+  U[q + 3] = U[f + 3];
 }
 
 // The largest norm of a corner's position (cw4d::max_radius of the model, in float32).
