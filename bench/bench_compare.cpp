@@ -7,6 +7,9 @@
 //   fixed     Slicer::slice with the plane n ~ (0.5377, 1.8339, -2.2588, 0.8622), offset
 //             0.1 x circumradius
 //   vertex    Slicer::slice with planes through a vertex (the degenerate, general path)
+//   offsets   Slicer::slice into one SliceBuffers with the fixed normal and the sweep's 256
+//             offsets (below) in turn: the planes bench/js/tet_slice.mjs times its port of
+//             Tesserxel's tetrahedral kernel on (bench/js/compare_js.sh)
 //   section   cw4d::section(model, plane) over the generic planes
 //   tet       slice_tets over the model's tetrahedral mesh, the generic planes (into the indexed
 //             TetSliceMesh where the headers have it, else the TetSection soup)
@@ -99,7 +102,7 @@ Eigen::VectorXd fixed_normal() {
 
 void run_model(const std::string& spec, const std::string& label, bool tets) {
   bool any = false;
-  for (const char* kind : {"/slice", "/fixed", "/vertex", "/section", "/sweep", "/tet"})
+  for (const char* kind : {"/slice", "/fixed", "/vertex", "/offsets", "/section", "/sweep", "/tet"})
     any |= wanted(label + kind);
   if (!any) return;
   const cw4d::Complex model = cw4d::load_model(spec);
@@ -135,6 +138,17 @@ void run_model(const std::string& spec, const std::string& label, bool tets) {
              g_sink += out.vertex_source.size();
            }),
            1);
+  if (wanted(label + "/offsets")) {
+    std::vector<cw4d::Hyperplane> layers;
+    for (std::size_t i = 0; i < 256; ++i)
+      layers.push_back(cw4d::Hyperplane::from(
+          nf, radius * (-0.95 + 1.9 * (static_cast<double>(i) + 0.5) / 256.0)));
+    report(label + "/offsets", time_per_op([&](std::size_t i) {
+             slicer.slice(compiled, layers[i % layers.size()], out);
+             g_sink += out.vertex_source.size();
+           }),
+           1);
+  }
   if (wanted(label + "/section"))
     report(label + "/section", time_per_op([&](std::size_t i) {
              const cw4d::Section s = cw4d::section(model, planes[i % planes.size()]);
