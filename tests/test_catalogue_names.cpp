@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -84,15 +85,20 @@ class PointIndex {
   }
 
  private:
-  std::string key(const Eigen::Vector4d& p, const std::array<int, 4>& shift) const {
-    std::string k;
-    for (int i = 0; i < 4; ++i)
-      k += std::to_string(static_cast<long long>(std::floor(p(i) / (4.0 * tol_))) + shift[i]) + ',';
+  // The cell's coordinates mixed into one word; distinct cells that collide only cost a
+  // distance test more.
+  std::uint64_t key(const Eigen::Vector4d& p, const std::array<int, 4>& shift) const {
+    std::uint64_t k = 0;
+    for (int i = 0; i < 4; ++i) {
+      const auto cell = static_cast<std::int64_t>(std::floor(p(i) / (4.0 * tol_))) + shift[i];
+      k = (k ^ static_cast<std::uint64_t>(cell)) * 0x9E3779B97F4A7C15ull;
+      k ^= k >> 29;
+    }
     return k;
   }
   const Eigen::MatrixXd& points_;
   double tol_;
-  std::unordered_map<std::string, std::vector<std::uint32_t>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
 };
 
 // The bijection file vertex -> built vertex of an orthogonal map sending the file's vertices
