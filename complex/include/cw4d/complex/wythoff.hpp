@@ -140,6 +140,13 @@ std::string english_name(const UniformPolychoron& polychoron);
 /// runcicantitruncated with omnitruncated. nullopt for anything else.
 std::optional<UniformPolychoron> find_uniform_polychoron(std::string_view name);
 
+struct ModelFamily;  // cw4d/complex/catalogue.hpp
+/// The model family "UNIFORM-POLYCHORON": every entry of uniform_polychora() by name
+/// (find_uniform_polychoron). Without hull_models (core_catalogue()) it leaves out the snub
+/// 24-cell and the grand antiprism, which cw4d_tetrahedralize builds as convex hulls; with them
+/// (default_catalogue(), where it replaces the core one) those load through their hull families.
+ModelFamily uniform_polychoron_family(bool hull_models);
+
 /// The regular star polychora (Schlaefli-Hess: "great grand stellated 120-cell", "grand
 /// 600-cell", ..., or the Greek forms "great grand stellated hecatonicosachoron", "grand
 /// hexacosichoron") and the named non-convex uniform polychora as Miratope names its files
