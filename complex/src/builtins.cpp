@@ -444,6 +444,61 @@ ModelFamily parametric_family(
                                                   const Catalogue&) { return make(spec, args); });
 }
 
+ModelFamily uniform_polychoron_family(bool hull_models) {
+  // Every uniform polychoron of the name table (convex, regular star, non-convex), by
+  // Miratope's name or in English; the count in the description comes from the table.
+  // Regular: one ring, on the first node (the table writes them so).
+  const auto regular = [](const UniformPolychoron& p) {
+    const std::string_view d = p.diagram;
+    return !d.empty() && d[0] == 'x' && d.find_first_of("xs", 1) == std::string_view::npos;
+  };
+  std::size_t convex = 0, stars = 0, regular_convex = 0, other_convex = 0;
+  for (const UniformPolychoron& p : uniform_polychora()) {
+    convex += p.convex ? 1 : 0;
+    regular_convex += p.convex && regular(p) ? 1 : 0;
+    stars += !p.convex && regular(p) ? 1 : 0;
+    // The snub 24-cell and the grand antiprism: not a ringing of a linear diagram.
+    other_convex +=
+        p.convex && std::string_view(p.diagram).find_first_of("x") == std::string_view::npos ? 1
+                                                                                             : 0;
+  }
+  const std::size_t total = uniform_polychora().size();
+  ModelFamily named;
+  named.usage = "UNIFORM-POLYCHORON";
+  named.description =
+      "one of the " + std::to_string(total) + " uniform polychora cw4d builds by name (" +
+      std::to_string(convex) + " convex: " + std::to_string(regular_convex) + " regular, " +
+      std::to_string(convex - regular_convex - other_convex) + " Wythoffian, " +
+      std::to_string(other_convex) + " others: the snub 24-cell and the grand antiprism; " +
+      std::to_string(total - convex) + " non-convex: " + std::to_string(stars) + " regular star, " +
+      std::to_string(total - convex - stars) +
+      " others), by Miratope's name or in English, e.g. 'Quasicantitruncated "
+      "icosatetrachoron', 'great grand stellated 120-cell', 'semisnub icositetrachoron' "
+      "(every name with its diagram: docs/models.md)";
+  // The hull-built ones (snub 24-cell, grand antiprism) only where the catalogue has them.
+  named.matches = [hull_models](std::string_view lowered) {
+    const auto p = find_uniform_polychoron(lowered);
+    return p && (hull_models || !p->spec || std::string_view(p->diagram).find('x') == 0);
+  };
+  named.make = [](const std::string& spec, const Catalogue& catalogue) {
+    const UniformPolychoron p = *find_uniform_polychoron(spec);
+    if (!p.spec) return make_wythoff(p.diagram, WythoffOptions{p.folded});
+    // Under core_catalogue() the spec would find this family again.
+    const ModelFamily* builder = catalogue.find(p.spec);
+    if (!builder || builder->usage == "UNIFORM-POLYCHORON")
+      throw InputError(quote_user_text(spec) + " is the " + p.spec +
+                       ", built by the hull families of cw4d_tetrahedralize "
+                       "(default_catalogue), not by this catalogue");
+    return catalogue.load(p.spec);
+  };
+  for (const UniformPolychoron& p : uniform_polychora()) {
+    if (!hull_models && p.spec && std::string_view(p.diagram).find('x') != 0) continue;
+    named.names.emplace_back(p.name);
+    named.names.push_back(english_name(p));
+  }
+  return named;
+}
+
 namespace {
 
 std::vector<ModelFamily> default_families() {
@@ -475,23 +530,7 @@ std::vector<ModelFamily> default_families() {
     };
     f.push_back(std::move(u));
   }
-  {
-    // Regular star and named non-convex uniform polychora, built from their diagrams.
-    ModelFamily star;
-    star.usage = "STAR-POLYCHORON";
-    star.description =
-        "regular star or named non-convex uniform polychoron (Wythoff construction, edge 2), "
-        "e.g. 'great grand stellated 120-cell', 'grand 600-cell', 'quasitruncated tesseract' "
-        "(every name: docs/models.md)";
-    star.matches = [](std::string_view lowered) {
-      return star_polychoron_diagram(lowered).has_value();
-    };
-    star.make = [](const std::string& spec, const Catalogue&) {
-      return make_star_polychoron(lower(spec));
-    };
-    for (const NamedDiagram& e : star_polychoron_names()) star.names.emplace_back(e.name);
-    f.push_back(std::move(star));
-  }
+  f.push_back(uniform_polychoron_family(false));
   f.push_back(parametric_family("simplex", "simplex:N",
                                 "regular N-simplex, circumradius 1 (N = 2..12)",
                                 [](const std::string& spec, std::string_view a) {

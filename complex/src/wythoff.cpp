@@ -829,91 +829,211 @@ std::optional<std::string> uniform_polychoron_diagram(std::string_view name) {
 
 namespace cw4d {
 
-const std::vector<NamedDiagram>& star_polychoron_names() {
-  // The ten regular star polychora (Schlaefli-Hess) by their Schlaefli symbols, as in
-  // H. S. M. Coxeter, "Regular Polytopes" (1973), table IV; the Greek names are Miratope's.
-  static const std::vector<NamedDiagram> names = {
-      {"icosahedral 120-cell", "x3o5o5/2o"},            // {3,5,5/2}
-      {"small stellated 120-cell", "x5/2o5o3o"},        // {5/2,5,3}
-      {"great 120-cell", "x5o5/2o5o"},                  // {5,5/2,5}
-      {"grand 120-cell", "x5o3o5/2o"},                  // {5,3,5/2}
-      {"great stellated 120-cell", "x5/2o3o5o"},        // {5/2,3,5}
-      {"grand stellated 120-cell", "x5/2o5o5/2o"},      // {5/2,5,5/2}
-      {"great grand 120-cell", "x5o5/2o3o"},            // {5,5/2,3}
-      {"great icosahedral 120-cell", "x3o5/2o5o"},      // {3,5/2,5}
-      {"grand 600-cell", "x3o3o5/2o"},                  // {3,3,5/2}
-      {"great grand stellated 120-cell", "x5/2o3o3o"},  // {5/2,3,3}
-      // Non-convex uniform polychora, named as in Miratope's library (the Miratope authors).
-      {"biquasitruncated icositetrachoron", "o3x4/3x3o"},
-      {"bitruncated great grand stellated hecatonicosachoron", "o5/2x3x3o"},
-      {"bitruncated icosahedral hecatonicosachoron", "o3x5x5/2o"},
-      {"cantellated grand hexacosichoron", "x3o3x5/2o"},
-      {"cantellated icosahedral hecatonicosachoron", "x3o5x5/2o"},
-      {"cantellated stellated hecatonicosachoron", "x5/2o5x3o"},
-      {"cantitruncated grand hexacosichoron", "x3x3x5/2o"},
-      {"quasicantellated icositetrachoron", "x3o4/3x3o"},
-      {"quasicantellated tesseract", "x4/3o3x3o"},
-      {"quasicantitruncated icosatetrachoron", "x3x4/3x3o"},
-      {"quasicantitruncated tesseract", "x4/3x3x3o"},
-      {"quasiomnitruncated icositetrachoron", "x3x4/3x3x"},
-      {"quasiomnitruncated tesseract", "x4/3x3x3x"},
-      {"quasiruncicantellated tesseract", "x4/3o3x3x"},
-      {"quasiruncinated icositetrachoron", "x3o4/3o3x"},
-      {"quasiruncinated tesseract", "x4/3o3o3x"},
-      {"quasiruncitruncated icositetrachoron", "x3x4/3o3x"},
-      {"quasiruncitruncated tesseract", "x4/3x3o3x"},
-      {"quasitruncated tesseract", "x4/3x3o3o"},
-      {"rectified grand hecatonicosachoron", "o5x3o5/2o"},
-      {"rectified grand stellated hecatonicosachoron", "o5/2x5o5/2o"},
-      {"rectified great grand hecatonicosachoron", "o5x5/2o3o"},
-      {"rectified great hecatonicosachoron", "o5x5/2o5o"},
-      {"rectified great icosahedral hecatonicosachoron", "o3x5/2o5o"},
-      {"rectified great stellated hecatonicosachoron", "o5/2x3o5o"},
-      {"rectified icosahedral hecatonicosachoron", "o3x5o5/2o"},
-      {"rectified stellated hecatonicosachoron", "o5/2x5o3o"},
-      {"runcinated icosahedral hecatonicosachoron", "x3o5o5/2x"},
-      // Four Wythoff vertices of x5/2o3o3x coincide at each point (and the edges in pairs):
-      // Miratope's file is the folded figure.
-      {"runcinated great grand stellated hecatonicosachoron", "x5/2o3o3x", true},
-      {"truncated grand hexacosichoron", "x3x3o5/2o"},
-      {"truncated icosahedral hecatonicosachoron", "x3x5o5/2o"},
+namespace {
+
+// Word-level canonical form of a polychoron's name: lower case, words joined by '-', the Greek
+// base words and Miratope's spellings put in English, so that "Quasicantitruncated
+// icosatetrachoron", "quasicantitruncated icositetrachoron" and "quasicantitruncated 24-cell"
+// compare equal.
+std::string canonical_name(std::string_view text) {
+  std::vector<std::string> words(1);
+  for (char ch : text) {
+    if (ch == ' ' || ch == '_' || ch == '-' || ch == '\t') {
+      if (!words.back().empty()) words.emplace_back();
+    } else {
+      words.back() += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    }
+  }
+  if (words.back().empty()) words.pop_back();
+  static const std::pair<const char*, const char*> english[] = {
+      {"pentachoron", "5-cell"},
+      {"tesseract", "8-cell"},
+      {"hexadecachoron", "16-cell"},
+      {"icositetrachoron", "24-cell"},
+      {"icosatetrachoron", "24-cell"},
+      {"hecatonicosachoron", "120-cell"},
+      {"hexacosichoron", "600-cell"},
+      {"runcicantitruncated", "omnitruncated"},
+      {"semisnub", "snub"}};
+  std::string out;
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    std::string w = words[i];
+    // "small stellated 120-cell" is the stellated 120-cell (Miratope, Coxeter's tables).
+    if (w == "small" && i + 1 < words.size() && words[i + 1] == "stellated") continue;
+    for (const auto& [greek, plain] : english)
+      if (w == greek) w = plain;
+    if (!out.empty()) out += '-';
+    out += w;
+  }
+  return out;
+}
+
+// cw4d's English name: the table's, or Miratope's with the Greek base word in English (the
+// tesseract keeps its name).
+std::string english_of(const UniformPolychoron& p) {
+  if (p.english) return p.english;
+  std::string s = p.name;
+  static const std::pair<const char*, const char*> english[] = {
+      {"pentachoron", "5-cell"},          {"hexadecachoron", "16-cell"},
+      {"icositetrachoron", "24-cell"},    {"icosatetrachoron", "24-cell"},
+      {"hecatonicosachoron", "120-cell"}, {"hexacosichoron", "600-cell"}};
+  for (const auto& [greek, plain] : english) {
+    const auto at = s.find(greek);
+    if (at != std::string::npos) s.replace(at, std::string_view(greek).size(), plain);
+  }
+  return s;
+}
+
+}  // namespace
+
+const std::vector<UniformPolychoron>& uniform_polychora() {
+  // Miratope's library (the Miratope authors: lib/4D of miratope-rs) names its uniform
+  // polychora after the Polytope Wiki (J. Bowers' names); each file is checked against the
+  // diagram here by tests/test_catalogue_names.cpp.
+  static const std::vector<UniformPolychoron> table = {
+      // The six convex regular polychora: the built-ins of the same English names.
+      {"pentachoron", "5-cell", "x3o3o3o", true, false, "5-cell"},
+      {"tesseract", nullptr, "x4o3o3o", true, false, "tesseract"},
+      {"hexadecachoron", "16-cell", "x3o3o4o", true, false, "16-cell"},
+      {"icositetrachoron", "24-cell", "x3o4o3o", true, false, "24-cell"},
+      {"hecatonicosachoron", "120-cell", "x5o3o3o", true, false, "120-cell"},
+      {"hexacosichoron", "600-cell", "x3o3o5o", true, false, "600-cell"},
+      // The convex uniform polychora of the linear diagrams A4, B4, F4, H4.
+      {"truncated pentachoron", nullptr, "x3x3o3o", true},
+      {"rectified pentachoron", nullptr, "o3x3o3o", true},
+      {"bitruncated pentachoron", nullptr, "o3x3x3o", true},
+      {"cantellated pentachoron", nullptr, "x3o3x3o", true},
+      {"runcinated pentachoron", nullptr, "x3o3o3x", true},
+      {"cantitruncated pentachoron", nullptr, "x3x3x3o", true},
+      {"runcitruncated pentachoron", nullptr, "x3x3o3x", true},
+      {"omnitruncated pentachoron", nullptr, "x3x3x3x", true},
+      {"truncated tesseract", nullptr, "x4x3o3o", true},
+      {"rectified tesseract", nullptr, "o4x3o3o", true},
+      {"bitruncated tesseract", nullptr, "o4x3x3o", true},
+      {"cantellated tesseract", nullptr, "x4o3x3o", true},
+      {"runcinated tesseract", nullptr, "x4o3o3x", true},
+      {"cantitruncated tesseract", nullptr, "x4x3x3o", true},
+      {"runcitruncated tesseract", nullptr, "x4x3o3x", true},
+      {"omnitruncated tesseract", nullptr, "x4x3x3x", true},
+      {"truncated hexadecachoron", nullptr, "x3x3o4o", true},
+      {"runcitruncated hexadecachoron", nullptr, "x3x3o4x", true},
+      {"truncated icositetrachoron", nullptr, "x3x4o3o", true},
+      {"rectified icositetrachoron", nullptr, "o3x4o3o", true},
+      {"bitruncated icositetrachoron", nullptr, "o3x4x3o", true},
+      {"cantellated icositetrachoron", nullptr, "x3o4x3o", true},
+      {"runcinated icositetrachoron", nullptr, "x3o4o3x", true},
+      {"cantitruncated icositetrachoron", nullptr, "x3x4x3o", true},
+      {"runcitruncated icositetrachoron", nullptr, "x3x4o3x", true},
+      {"omnitruncated icositetrachoron", nullptr, "x3x4x3x", true},
+      {"truncated hecatonicosachoron", nullptr, "x5x3o3o", true},
+      {"rectified hecatonicosachoron", nullptr, "o5x3o3o", true},
+      {"bitruncated hecatonicosachoron", nullptr, "o5x3x3o", true},
+      {"cantellated hecatonicosachoron", nullptr, "x5o3x3o", true},
+      {"runcinated hecatonicosachoron", nullptr, "x5o3o3x", true},
+      {"cantitruncated hecatonicosachoron", nullptr, "x5x3x3o", true},
+      {"runcitruncated hecatonicosachoron", nullptr, "x5x3o3x", true},
+      {"omnitruncated hecatonicosachoron", nullptr, "x5x3x3x", true},
+      {"truncated hexacosichoron", nullptr, "x3x3o5o", true},
+      {"rectified hexacosichoron", nullptr, "o3x3o5o", true},
+      {"cantellated hexacosichoron", nullptr, "x3o3x5o", true},
+      {"cantitruncated hexacosichoron", nullptr, "x3x3x5o", true},
+      {"runcitruncated hexacosichoron", nullptr, "x3x3o5x", true},
+      // The two convex uniform polychora that are no plain ringing of a linear diagram: the
+      // snub 24-cell s3s4o3o is the alternation of x3x4o3o (half its vertices); the grand
+      // antiprism has no Wythoff construction from a linear diagram (J. H. Conway,
+      // M. J. T. Guy, "Four-dimensional Archimedean polytopes", 1965). Both are built as
+      // convex hulls by default_catalogue().
+      {"semisnub icositetrachoron", "snub 24-cell", "s3s4o3o", true, false, "snub 24-cell"},
+      {"grand antiprism", nullptr, "", true, false, "grand antiprism"},
+      // The ten regular star polychora (Schlaefli-Hess), by their Schlaefli symbols as in
+      // H. S. M. Coxeter, "Regular Polytopes" (1973), table IV.
+      {"icosahedral hecatonicosachoron", "icosahedral 120-cell", "x3o5o5/2o", false},
+      {"stellated hecatonicosachoron", "small stellated 120-cell", "x5/2o5o3o", false},
+      {"great hecatonicosachoron", "great 120-cell", "x5o5/2o5o", false},
+      {"grand hecatonicosachoron", "grand 120-cell", "x5o3o5/2o", false},
+      {"great stellated hecatonicosachoron", "great stellated 120-cell", "x5/2o3o5o", false},
+      {"grand stellated hecatonicosachoron", "grand stellated 120-cell", "x5/2o5o5/2o", false},
+      {"great grand hecatonicosachoron", "great grand 120-cell", "x5o5/2o3o", false},
+      {"great icosahedral hecatonicosachoron", "great icosahedral 120-cell", "x3o5/2o5o", false},
+      {"grand hexacosichoron", "grand 600-cell", "x3o3o5/2o", false},
+      {"great grand stellated hecatonicosachoron", "great grand stellated 120-cell", "x5/2o3o3o",
+       false},
+      // Non-convex uniform polychora. Four Wythoff vertices of x5/2o3o3x coincide at each
+      // point (and its edges in pairs): Miratope's file is the folded figure.
+      {"biquasitruncated icositetrachoron", nullptr, "o3x4/3x3o", false},
+      {"bitruncated great grand stellated hecatonicosachoron", nullptr, "o5/2x3x3o", false},
+      {"bitruncated icosahedral hecatonicosachoron", nullptr, "o3x5x5/2o", false},
+      {"cantellated grand hexacosichoron", nullptr, "x3o3x5/2o", false},
+      {"cantellated icosahedral hecatonicosachoron", nullptr, "x3o5x5/2o", false},
+      {"cantellated stellated hecatonicosachoron", nullptr, "x5/2o5x3o", false},
+      {"cantitruncated grand hexacosichoron", nullptr, "x3x3x5/2o", false},
+      {"quasicantellated icositetrachoron", nullptr, "x3o4/3x3o", false},
+      {"quasicantellated tesseract", nullptr, "x4/3o3x3o", false},
+      {"quasicantitruncated icosatetrachoron", nullptr, "x3x4/3x3o", false},
+      {"quasicantitruncated tesseract", nullptr, "x4/3x3x3o", false},
+      {"quasiomnitruncated icositetrachoron", nullptr, "x3x4/3x3x", false},
+      {"quasiomnitruncated tesseract", nullptr, "x4/3x3x3x", false},
+      {"quasiruncicantellated tesseract", nullptr, "x4/3o3x3x", false},
+      {"quasiruncinated icositetrachoron", nullptr, "x3o4/3o3x", false},
+      {"quasiruncinated tesseract", nullptr, "x4/3o3o3x", false},
+      {"quasiruncitruncated icositetrachoron", nullptr, "x3x4/3o3x", false},
+      {"quasiruncitruncated tesseract", nullptr, "x4/3x3o3x", false},
+      {"quasitruncated tesseract", nullptr, "x4/3x3o3o", false},
+      {"rectified grand hecatonicosachoron", nullptr, "o5x3o5/2o", false},
+      {"rectified grand stellated hecatonicosachoron", nullptr, "o5/2x5o5/2o", false},
+      {"rectified great grand hecatonicosachoron", nullptr, "o5x5/2o3o", false},
+      {"rectified great hecatonicosachoron", nullptr, "o5x5/2o5o", false},
+      {"rectified great icosahedral hecatonicosachoron", nullptr, "o3x5/2o5o", false},
+      {"rectified great stellated hecatonicosachoron", nullptr, "o5/2x3o5o", false},
+      {"rectified icosahedral hecatonicosachoron", nullptr, "o3x5o5/2o", false},
+      {"rectified stellated hecatonicosachoron", nullptr, "o5/2x5o3o", false},
+      {"runcinated icosahedral hecatonicosachoron", nullptr, "x3o5o5/2x", false},
+      {"runcinated great grand stellated hecatonicosachoron", nullptr, "x5/2o3o3x", false, true},
+      {"truncated grand hexacosichoron", nullptr, "x3x3o5/2o", false},
+      {"truncated icosahedral hecatonicosachoron", nullptr, "x3x5o5/2o", false},
   };
+  return table;
+}
+
+std::string english_name(const UniformPolychoron& polychoron) {
+  return english_of(polychoron);
+}
+
+std::optional<UniformPolychoron> find_uniform_polychoron(std::string_view name) {
+  if (name.size() > 200) return std::nullopt;
+  // Other names of the same polychora: Miratope's folder index calls x4/3o3x3x (its file
+  // "Quasiruncicantellated tesseract") the quasiruncitruncated hexadecachoron, as x4o3x3x is
+  // both the runcicantellated tesseract and the runcitruncated 16-cell; "sadi" is Bowers'.
+  static const std::pair<const char*, const char*> aliases[] = {
+      {"quasiruncitruncated hexadecachoron", "quasiruncicantellated tesseract"},
+      {"runcicantellated tesseract", "runcitruncated hexadecachoron"},
+      {"sadi", "semisnub icositetrachoron"},
+      {"gap", "grand antiprism"}};
+  std::string s = canonical_name(name);
+  if (s.empty()) return std::nullopt;
+  for (const auto& [alias, target] : aliases)
+    if (s == canonical_name(alias)) s = canonical_name(target);
+  for (const UniformPolychoron& p : uniform_polychora())
+    if (s == canonical_name(p.name) || s == canonical_name(english_of(p))) return p;
+  return std::nullopt;
+}
+
+const std::vector<NamedDiagram>& star_polychoron_names() {
+  // The non-convex entries of uniform_polychora(): the ten regular star polychora by their
+  // English (Schlaefli-Hess) names first, then the others by Miratope's names.
+  static const std::vector<NamedDiagram> names = [] {
+    std::vector<NamedDiagram> out;
+    for (const UniformPolychoron& p : uniform_polychora())
+      if (!p.convex) out.push_back({p.english ? p.english : p.name, p.diagram, p.folded});
+    return out;
+  }();
   return names;
 }
 
 std::optional<NamedDiagram> star_polychoron(std::string_view name) {
-  auto normal = [](std::string_view text) {
-    std::string s;
-    for (char ch : text) {
-      ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-      if (ch == ' ' || ch == '_') ch = '-';
-      if (ch != '-' || (!s.empty() && s.back() != '-')) s += ch;
-    }
-    while (!s.empty() && s.back() == '-') s.pop_back();
-    return s;
-  };
-  // Greek forms of the regular ones, and "stellated 120-cell" for the small stellated one.
-  static const NamedDiagram aliases[] = {
-      {"icosahedral hecatonicosachoron", "x3o5o5/2o"},
-      {"stellated hecatonicosachoron", "x5/2o5o3o"},
-      {"stellated 120-cell", "x5/2o5o3o"},
-      {"small stellated hecatonicosachoron", "x5/2o5o3o"},
-      {"great hecatonicosachoron", "x5o5/2o5o"},
-      {"grand hecatonicosachoron", "x5o3o5/2o"},
-      {"great stellated hecatonicosachoron", "x5/2o3o5o"},
-      {"grand stellated hecatonicosachoron", "x5/2o5o5/2o"},
-      {"great grand hecatonicosachoron", "x5o5/2o3o"},
-      {"great icosahedral hecatonicosachoron", "x3o5/2o5o"},
-      {"grand hexacosichoron", "x3o3o5/2o"},
-      {"great grand stellated hecatonicosachoron", "x5/2o3o3o"},
-      {"quasicantitruncated icositetrachoron", "x3x4/3x3o"},
-  };
-  const std::string s = normal(name);
-  for (const auto& e : star_polychoron_names())
-    if (s == normal(e.name)) return e;
-  for (const auto& e : aliases)
-    if (s == normal(e.name)) return e;
-  return std::nullopt;
+  const auto p = find_uniform_polychoron(name);
+  if (!p || p->convex) return std::nullopt;
+  return NamedDiagram{p->english ? p->english : p->name, p->diagram, p->folded};
 }
 
 std::optional<std::string> star_polychoron_diagram(std::string_view name) {

@@ -20,6 +20,7 @@
 #include "cw4d/complex/error.hpp"
 #include "cw4d/complex/input_file.hpp"
 #include "cw4d/complex/text.hpp"
+#include "cw4d/complex/wythoff.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
 
 namespace cw4d {
@@ -284,6 +285,9 @@ std::vector<ModelFamily> hull_families() {
                            "grand antiprism: the 600-cell (circumradius 1) without two "
                            "completely orthogonal decagons",
                            make_grand_antiprism));
+  // Replaces the core family of this usage: Miratope's "semisnub icositetrachoron" and the
+  // other names of the two polychora above load too.
+  f.push_back(uniform_polychoron_family(true));
   f.push_back(parametric_family(
       "glome", "glome:R,N",
       "convex polytope inscribed in the 3-sphere of radius R, Hopf-coordinate grid of "

@@ -109,6 +109,44 @@ struct NamedDiagram {
   bool folded = false;
 };
 
+/// One uniform polychoron that cw4d builds by name.
+struct UniformPolychoron {
+  const char* name;  ///< Miratope's name (its library file's), lower case
+  /// cw4d's English name when it is not `name` with the Greek base word in English
+  /// (pentachoron -> 5-cell, icositetrachoron -> 24-cell, ...), else nullptr.
+  const char* english;
+  /// Linear Coxeter-Dynkin diagram: x ringed, o unringed, s alternated (snub) nodes; "" for
+  /// the grand antiprism, which has none.
+  const char* diagram;
+  bool convex = true;
+  bool folded = false;  ///< built as make_wythoff(diagram, WythoffOptions{true})
+  /// The model spec that builds it when make_wythoff does not: the regular convex built-ins
+  /// (their own coordinates), and the snub 24-cell and grand antiprism of default_catalogue()
+  /// (convex hulls, in cw4d_tetrahedralize); nullptr for make_wythoff(diagram).
+  const char* spec = nullptr;
+};
+
+/// Every uniform polychoron cw4d builds by name, one entry each, in a fixed order: the 47 convex
+/// ones (6 regular, 39 Wythoffian, the snub 24-cell, the grand antiprism), then the ten regular
+/// star polychora and the other non-convex uniform ones of Miratope's library.
+const std::vector<UniformPolychoron>& uniform_polychora();
+/// cw4d's English name of an entry ("quasicantitruncated 24-cell", "great grand stellated
+/// 120-cell", "truncated tesseract").
+std::string english_name(const UniformPolychoron& polychoron);
+/// The entry a name denotes: Miratope's name or the English one, case-insensitive, words
+/// joined by spaces, hyphens or underscores, the Greek base words (pentachoron, tesseract,
+/// hexadecachoron, icositetrachoron or icosatetrachoron, hecatonicosachoron, hexacosichoron)
+/// interchangeable with 5-cell, 8-cell, 16-cell, 24-cell, 120-cell, 600-cell, and
+/// runcicantitruncated with omnitruncated. nullopt for anything else.
+std::optional<UniformPolychoron> find_uniform_polychoron(std::string_view name);
+
+struct ModelFamily;  // cw4d/complex/catalogue.hpp
+/// The model family "UNIFORM-POLYCHORON": every entry of uniform_polychora() by name
+/// (find_uniform_polychoron). Without hull_models (core_catalogue()) it leaves out the snub
+/// 24-cell and the grand antiprism, which cw4d_tetrahedralize builds as convex hulls; with them
+/// (default_catalogue(), where it replaces the core one) those load through their hull families.
+ModelFamily uniform_polychoron_family(bool hull_models);
+
 /// The regular star polychora (Schlaefli-Hess: "great grand stellated 120-cell", "grand
 /// 600-cell", ..., or the Greek forms "great grand stellated hecatonicosachoron", "grand
 /// hexacosichoron") and the named non-convex uniform polychora as Miratope names its files
