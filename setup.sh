@@ -68,6 +68,7 @@ TEST_PACKAGES=(
   python3-numpy
   python3-pytest
   python3-meshio
+  python3-jsonschema
   python3-scipy
   python3-matplotlib
   python3-mypy
@@ -181,7 +182,7 @@ configure_and_build() {
 
 # --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
 # CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 30 s per
-# target: eight targets in the time five took at 48 s). Build directories: build-asan/ and
+# target, nine targets). Build directories: build-asan/ and
 # build-fuzz/ (CW4D_ASAN_DIR, CW4D_FUZZ_DIR).
 SANITIZE_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 
@@ -233,7 +234,7 @@ run_fuzz_smoke() {
   cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCW4D_FUZZ_CLI=ON >&2 || return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
-  for target in off scene spec nesting wythoff cli texture view; do
+  for target in off g4mf scene spec nesting wythoff cli texture view; do
     # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
     work="$dir/corpus-$target"
     mkdir -p "$work"

@@ -191,7 +191,7 @@ TEST_CASE("catalogues are explicit values: core, default, extended", "[catalogue
       Catalogue().extended({named_family({"my-cell"}, "a tesseract", [] { return make_cube(4); })});
   CHECK(mine.load("My-Cell").fvector() == FVector{16, 32, 24, 8});
   CHECK_THROWS_AS(mine.load("prism:my-cell"), InputError);
-  CHECK(mine.list().size() == 2);  // my-cell, then the file entry
+  CHECK(mine.list().size() == 3);  // my-cell, then the file entries (nOFF, G4MF)
   const Catalogue swapped = core.extended(
       {named_family({"tesseract", "8-cell"}, "a 16-cell", [] { return make_orthoplex(4); })});
   CHECK(swapped.families().size() == core.families().size());

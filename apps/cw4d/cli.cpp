@@ -28,7 +28,8 @@ const char* const kExitCodes =
     "Exit codes:\n"
     "  0  success (info also exits 0 for an invalid model: it reports \"valid\": false)\n"
     "  1  usage error: bad option or value, unknown model spec\n"
-    "  2  an input file cannot be read or parsed (message names file:line)\n"
+    "  2  an input file cannot be read or parsed (message names file:line; G4MF: file:0 and\n"
+    "     the part of the file)\n"
     "  3  the model is not a valid complex (validation failed)\n"
     "  4  the output cannot be written (nothing is left half-written)\n"
     "  5  the section is empty: the plane misses the model, nothing is written\n"
@@ -234,8 +235,9 @@ Rotation parse_rotation(const std::string& text) {
 }  // namespace
 
 void Placement::add_options(CLI::App& cmd) {
-  cmd.add_option("MODEL", model,
-                 "Built-in spec (see 'cw4d list') or a .4off/.off file; or give --scene");
+  cmd.add_option(
+      "MODEL", model,
+      "Built-in spec (see 'cw4d list') or a .4off/.off/.g4tf/.g4b file; or give --scene");
   cmd.add_option("--scene", scene,
                  "JSON scene file: several placed, colored models, cut together (instead of "
                  "MODEL; not with --rotate/--translate)")

@@ -130,7 +130,7 @@ void add_atlas_command(CLI::App& app, Commands& commands) {
   s->placement.add_options(*cmd);
   cmd->remove_option(cmd->get_option("--scene"));
   cmd->get_option("MODEL")
-      ->description("Built-in spec (see 'cw4d list') or a .4off/.off file")
+      ->description("Built-in spec (see 'cw4d list') or a .4off/.off/.g4tf/.g4b file")
       ->required();
   cmd->add_flag("--json", s->json, "Print one JSON object instead of text");
   cmd->add_option("-o,--output", s->output,

@@ -1,5 +1,5 @@
-// cw4d check: import, validate, cut and round-trip every nOFF file of a collection, on every
-// core, with a report per file (a table on stdout, --json FILE).
+// cw4d check: import, validate, cut and round-trip every nOFF (or G4MF) file of a collection, on
+// every core, with a report per file (a table on stdout, --json FILE).
 #include <unistd.h>
 
 #include <Eigen/Geometry>
@@ -22,6 +22,7 @@
 
 #include "cli.hpp"
 #include "cw4d/complex/atomic_file.hpp"
+#include "cw4d/complex/g4mf.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/text.hpp"
@@ -60,11 +61,11 @@ bool has_off_extension(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".off" || ext == ".4off";
+  return ext == ".off" || ext == ".4off" || is_g4mf_extension(ext);
 }
 
-// The files named, and the *.off / *.4off files (any case) under the folders named, in a
-// stable order; symbolic links to folders are not followed (no loops).
+// The files named, and the *.off / *.4off / *.g4tf / *.g4b files (any case) under the folders
+// named, in a stable order; symbolic links to folders are not followed (no loops).
 std::vector<std::string> collect_files(const std::vector<std::string>& paths) {
   std::vector<std::string> files;
   for (const std::string& p : paths) {
@@ -178,12 +179,22 @@ std::string classify(const Complex& model, bool convex, bool section_self_inters
   return "non-convex";
 }
 
-// The differences between a model and its nOFF text read back: "" when there is none.
-std::string round_trip_problem(const Complex& a) {
-  std::ostringstream out;
-  write_off(out, a);
-  std::istringstream in(out.str());
-  const Complex b = read_off(in, "the written copy");
+bool has_g4mf_extension(const std::string& path) {
+  return is_g4mf_extension(lower_extension(path));
+}
+
+// The differences between a model and its nOFF text (or for a G4MF file its G4MF bytes) read
+// back: "" when there is none.
+std::string round_trip_problem(const Complex& a, bool g4mf) {
+  Complex b;
+  if (g4mf) {
+    b = read_g4mf(g4mf_files(a, {}).main, "the written copy");
+  } else {
+    std::ostringstream out;
+    write_off(out, a);
+    std::istringstream in(out.str());
+    b = read_off(in, "the written copy");
+  }
   const int n = a.ambient_dim();
   if (b.ambient_dim() != n) return "the copy reads back in R^" + std::to_string(b.ambient_dim());
   for (int k = 0; k < n; ++k)
@@ -266,7 +277,7 @@ FileReport check_file(const std::string& path, const CheckSettings& s) {
   try {
     Complex model;
     try {
-      model = read_off_file(path);
+      model = has_g4mf_extension(path) ? read_g4mf_file(path) : read_off_file(path);
     } catch (const Error& e) {
       stop("read", e.what());
     }
@@ -290,7 +301,7 @@ FileReport check_file(const std::string& path, const CheckSettings& s) {
     }
     if (r.passed()) {
       try {
-        const std::string p = round_trip_problem(model);
+        const std::string p = round_trip_problem(model, has_g4mf_extension(path));
         if (!p.empty()) stop("round-trip", p);
       } catch (const Error& e) {
         stop("round-trip", e.what());
@@ -335,7 +346,8 @@ void run_check(const CheckSettings& s) {
   CheckSettings settings = s;
   settings.strict = s.strict || off_read_options().strict;  // also `cw4d --strict check`
   const std::vector<std::string> files = collect_files(s.paths);
-  if (files.empty()) throw ParseError(s.paths.front(), 0, "no .off or .4off file to check");
+  if (files.empty())
+    throw ParseError(s.paths.front(), 0, "no .off, .4off, .g4tf or .g4b file to check");
   std::vector<FileReport> reports(files.size());
   const unsigned threads =
       std::max(1u, std::min<unsigned>(s.threads ? s.threads : std::thread::hardware_concurrency(),
@@ -420,8 +432,9 @@ void run_check(const CheckSettings& s) {
 void add_check_command(CLI::App& app, Commands& commands) {
   auto s = std::make_shared<CheckSettings>();
   auto* cmd = app.add_subcommand(
-      "check", "Import, validate, cut and round-trip every nOFF file of a collection.");
-  cmd->add_option("PATH", s->paths, "Files, or folders searched for *.off and *.4off (any case)")
+      "check", "Import, validate, cut and round-trip every nOFF or G4MF file of a collection.");
+  cmd->add_option("PATH", s->paths,
+                  "Files, or folders searched for *.off, *.4off, *.g4tf and *.g4b (any case)")
       ->required();
   cmd->add_option("--json", s->json, "Also write the per-file report as JSON to FILE");
   cmd->add_option("-j,--threads", s->threads, "Worker threads (default: every core)")
@@ -434,8 +447,9 @@ void add_check_command(CLI::App& app, Commands& commands) {
       "error with --strict), validate it, classify it (convex; star: self-intersecting;\n"
       "non-convex: neither), cut it with a seeded generic plane through the middle of its\n"
       "extent (it must meet the model; for a convex model the section must validate) and with\n"
-      "a plane through one of its vertices, then write it as nOFF and read that back (same\n"
-      "counts, coordinates, faces, cells and colors). The first problem found is reported.\n"
+      "a plane through one of its vertices, then write it as nOFF (a G4MF file: as G4MF) and\n"
+      "read that back (same counts, coordinates, faces, cells and colors). The first problem\n"
+      "found is reported.\n"
       "Exit codes: 0 when every file passes, 7 when any fails, 2 when a PATH does not exist\n"
       "or holds no file; see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_check(*s); }});

@@ -11,8 +11,11 @@
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/mass.hpp"
 #include "cw4d/complex/off_io.hpp"
+#include "cw4d/complex/text.hpp"
 #include "cw4d/complex/validate.hpp"
+#include "cw4d/export/g4mf.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
+#include "output.hpp"
 
 namespace cw4d::cli {
 
@@ -171,17 +174,46 @@ void run_info(const InfoSettings& s) {
 struct ConvertSettings {
   std::string model;
   std::string output;
+  std::string format;  // --format, empty: from the extension
+  bool no_uvw = false;
 };
 
 void run_convert(const ConvertSettings& s) {
-  if (!is_off_extension(lower_extension(s.output)))
-    throw InputError("cannot write '" + s.output +
-                     "': convert writes nOFF, use a .4off, .off or .noff extension");
+  // nOFF or G4MF, by --format or by the extension.
+  const std::string ext = lower_extension(s.output);
+  SectionFormat format = SectionFormat::off;
+  if (s.format.empty()) {
+    if (ext == ".g4tf")
+      format = SectionFormat::g4tf;
+    else if (ext == ".g4b")
+      format = SectionFormat::g4b;
+    else if (!is_off_extension(ext))
+      throw InputError("cannot write " + quote_user_text(s.output) +
+                       ": convert writes nOFF (.4off, .off, .noff) or G4MF (.g4tf, .g4b; "
+                       "--format g4tf-bin puts the buffer of a .g4tf in a .bin)");
+  } else {
+    if (s.format != "4off" && s.format != "off" && s.format != "noff" && s.format != "g4tf" &&
+        s.format != "g4tf-bin" && s.format != "g4b")
+      throw InputError("--format " + quote_user_text(s.format) +
+                       ": convert writes 4off, g4tf, g4tf-bin or g4b");
+    format = choose_format(s.output, s.format);
+  }
+  if (format == SectionFormat::off && s.no_uvw)
+    throw InputError("--no-uvw applies to G4MF output (nOFF holds no texture coordinates)");
   const Complex model = load(s.model);
   require_valid(model, s.model);
   prepare_output_directory(s.output);
-  write_off_file(s.output, model);
-  std::cout << "wrote " << s.output << ": " << describe_counts(model) << '\n';
+  std::vector<std::string> files{s.output};
+  if (format == SectionFormat::off) {
+    write_off_file(s.output, model);
+  } else {
+    G4mfWriteOptions opt;
+    opt.container = g4mf_container(format);
+    opt.name = model_item_name(s.model);
+    opt.description = "cw4d convert of " + s.model;
+    files = write_g4mf_model_file(s.output, model, opt, !s.no_uvw);
+  }
+  std::cout << "wrote " << describe_files(files) << ": " << describe_counts(model) << '\n';
 }
 
 }  // namespace
@@ -191,7 +223,8 @@ void add_info_command(CLI::App& app, Commands& commands) {
   auto* cmd = app.add_subcommand(
       "info",
       "Report dimension, f-vector, validity, bounds, volume and mass properties of a model.");
-  cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
+  cmd->add_option("MODEL", settings->model,
+                  "Built-in spec (see 'cw4d list') or a .4off/.off/.g4tf/.g4b file")
       ->required();
   cmd->add_flag("--json", settings->json, "Print one JSON object instead of text");
   cmd->add_option("--normal", settings->normal,
@@ -213,12 +246,26 @@ void add_info_command(CLI::App& app, Commands& commands) {
 
 void add_convert_command(CLI::App& app, Commands& commands) {
   auto settings = std::make_shared<ConvertSettings>();
-  auto* cmd = app.add_subcommand("convert", "Validate a model and write it as nOFF.");
-  cmd->add_option("MODEL", settings->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
+  auto* cmd = app.add_subcommand("convert", "Validate a model and write it as nOFF or G4MF.");
+  cmd->add_option("MODEL", settings->model,
+                  "Built-in spec (see 'cw4d list') or a .4off/.off/.g4tf/.g4b file")
       ->required();
-  cmd->add_option("-o,--output", settings->output, "Output file: .4off, .off or .noff")->required();
+  cmd->add_option("-o,--output", settings->output,
+                  "Output file: .4off, .off or .noff (nOFF); .g4tf or .g4b (G4MF)")
+      ->required();
+  cmd->add_option("--format", settings->format,
+                  "Force the format instead of taking it from the extension: 4off, g4tf, "
+                  "g4tf-bin (a .g4tf whose buffer is a .bin beside it), g4b")
+      ->type_name("NAME");
+  cmd->add_flag("--no-uvw", settings->no_uvw,
+                "G4MF: leave out the texture coordinates of the facet corners");
   cmd->footer(
-      "All three extensions write nOFF (\"4OFF\" for 4D models, \"OFF\" for 3D ones).\n"
+      "The three nOFF extensions write nOFF (\"4OFF\" for 4D models, \"OFF\" for 3D ones).\n"
+      "G4MF (godot-4d's Good 4D Model Format): .g4tf is JSON with the buffer embedded\n"
+      "(base64), --format g4tf-bin puts it in NAME.bin beside the .g4tf, .g4b is binary.\n"
+      "One mesh: float64 vertices, the edges, faces as edge cycles, cells as face lists\n"
+      "(ordered so that G4MF's first-two-members rule gives cw4d's orientation), colors,\n"
+      "facet normals and each facet's box-mapped UVW per corner (docs/formats.md).\n"
       "Missing parent directories of the output are created.\n"
       "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [settings] { run_convert(*settings); }});

@@ -132,11 +132,13 @@ void add_net_command(CLI::App& app, Commands& commands) {
   auto s = std::make_shared<NetSettings>();
   auto* cmd = app.add_subcommand(
       "net", "Unfold a 4D polytope's cells (a 3D polytope's faces) into a net and write it.");
-  cmd->add_option("MODEL", s->model, "Built-in spec (see 'cw4d list') or a .4off/.off file")
+  cmd->add_option("MODEL", s->model,
+                  "Built-in spec (see 'cw4d list') or a .4off/.off/.g4tf/.g4b file")
       ->required();
   cmd->add_option("-o,--output", s->output,
-                  "Output file: .obj, .gltf, .glb, .ply, .stl, .svg, .png (a shaded picture) or "
-                  ".4off/.off/.noff; a 3D model's net (polygons in the plane z = 0): .obj")
+                  "Output file: .obj, .gltf, .glb, .ply, .stl, .svg, .png (a shaded picture), "
+                  ".4off/.off/.noff or .g4tf/.g4b; a 3D model's net (polygons in the plane z = "
+                  "0): .obj")
       ->required();
   cmd->add_option("--format", s->format,
                   "Force the output format instead of taking it from the extension")

@@ -109,15 +109,16 @@ void add_slice_command(CLI::App& app, Commands& commands) {
                   "cw: the layered CW-complex section (polygons); tet: tetrahedralize the model "
                   "and cut each tetrahedron (triangles; UVW interpolated along the cut edges)")
       ->check(CLI::IsMember({"cw", "tet"}));
-  cmd->add_flag("--no-uvw", s->no_uvw,
-                "Leave out the texture coordinates (OBJ vt, glTF TEXCOORD_0/_UVW)");
+  cmd->add_flag(
+      "--no-uvw", s->no_uvw,
+      "Leave out the texture coordinates (OBJ vt, glTF TEXCOORD_0/_UVW, G4MF textureMap)");
   cmd->add_option("--format", s->format,
                   "Force the output format instead of taking it from the extension: obj, gltf, "
-                  "glb, ply, stl, svg, 4off")
+                  "glb, ply, stl, svg, 4off, g4tf, g4tf-bin, g4b")
       ->type_name("NAME");
   cmd->add_option("-o,--output", s->output,
-                  "Output file: .obj, .gltf, .glb, .ply, .stl, .svg (a shaded picture), or "
-                  ".4off/.off/.noff")
+                  "Output file: .obj, .gltf, .glb, .ply, .stl, .svg (a shaded picture), "
+                  ".4off/.off/.noff, or .g4tf/.g4b (G4MF)")
       ->required();
   cmd->footer(
       "The model is placed by x_world = R_k ... R_1 x_model + t (R_1 = first --rotate) and cut\n"
@@ -132,6 +133,9 @@ void add_slice_command(CLI::App& app, Commands& commands) {
       "  .ply   binary PLY, triangles with per-vertex colors; .stl: binary STL triangles\n"
       "  .svg   a flat-shaded picture of a 4D model's section\n"
       "  .4off/.off/.noff  the section as an nOFF complex\n"
+      "  .g4tf  G4MF (godot-4d): the section as a 3D mesh with its topology (faces as edge\n"
+      "         cycles), colors, normals and UVW, the buffer embedded (--format g4tf-bin: in a\n"
+      "         .bin beside it); .g4b: binary G4MF\n"
       "Missing parent directories of the output are created.\n"
       "An empty section (the plane misses the model) writes nothing and exits 5.\n"
       "With --scene FILE every object of the scene is placed by its own transform and cut by the\n"

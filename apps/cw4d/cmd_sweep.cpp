@@ -254,7 +254,7 @@ void add_sweep_command(CLI::App& app, Commands& commands) {
       ->type_name("S");
   cmd->add_option("--format", s->format,
                   "Format of the per-layer files (default: from the extension, else obj): obj, "
-                  "gltf, glb, ply, stl, svg, 4off")
+                  "gltf, glb, ply, stl, svg, 4off, g4tf, g4tf-bin, g4b")
       ->type_name("NAME");
   cmd->add_flag("--no-uvw", s->no_uvw, "Leave out the texture coordinates");
   cmd->add_flag("-q,--quiet", s->quiet, "No progress bar");

@@ -5,6 +5,7 @@
 #include "cw4d/complex/text.hpp"
 #include "cw4d/tetrahedralize/tet_io.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
+#include "output.hpp"
 
 namespace cw4d::cli {
 
@@ -21,7 +22,7 @@ struct TetSettings {
 void run_tetrahedralize(const TetSettings& s) {
   if (!is_tet_mesh_path(s.output))
     throw InputError("cannot write a tetrahedral mesh as '" + s.output +
-                     "': use .vtu, .node/.ele, .4do or .bin/.json");
+                     "': use .vtu, .node/.ele, .4do, .bin/.json or .g4tf/.g4b");
   if (s.binary && lower_extension(s.output) != ".vtu")
     throw InputError("--binary applies to .vtu output only");
   TetOptions options;
@@ -45,7 +46,17 @@ void run_tetrahedralize(const TetSettings& s) {
   TetStats stats;
   const TetMesh mesh = tetrahedralize(model, options, &stats);
   prepare_output_directory(s.output);
-  write_tet_mesh(s.output, mesh, s.binary);
+  const std::string ext = lower_extension(s.output);
+  if (ext == ".g4tf" || ext == ".g4b") {
+    // G4MF: the model's cell colors go along, per tetrahedron.
+    G4mfWriteOptions opt;
+    opt.container = ext == ".g4b" ? G4mfContainer::binary : G4mfContainer::text_embedded;
+    opt.name = model_item_name(s.model);
+    opt.description = "cw4d tetrahedralize of " + s.model;
+    write_g4mf_simplex_file(s.output, g4mf_simplex_mesh(mesh, model.colors(3)), opt);
+  } else {
+    write_tet_mesh(s.output, mesh, s.binary);
+  }
   std::cout << "wrote " << s.output << ": " << mesh.size() << " tetrahedra, "
             << mesh.positions.cols() << " vertices, from " << model.count(3) << " cells ("
             << stats.coned_cells << " coned, " << stats.cube_split_cells << " cubes split in 5, "
@@ -62,7 +73,8 @@ void add_tetrahedralize_command(CLI::App& app, Commands& commands) {
   auto* cmd = app.add_subcommand(
       "tetrahedralize", "Write the tetrahedral mesh of a 4D model (positions, normals, UVW).");
   cmd->add_option("MODEL", s->model, "Model spec or file (see 'cw4d list')")->required();
-  cmd->add_option("-o,--output", s->output, "Output file: .vtu, .node/.ele, .4do or .bin/.json")
+  cmd->add_option("-o,--output", s->output,
+                  "Output file: .vtu, .node/.ele, .4do, .bin/.json or .g4tf/.g4b")
       ->required();
   cmd->add_option("--uvw", s->uvw,
                   "Texture coordinates: box (each cell's box mapped to [0,1]^3), param (the "
@@ -83,6 +95,8 @@ void add_tetrahedralize_command(CLI::App& app, Commands& commands) {
       "  .bin/.json  GPU buffer (both written): per tetrahedron 4 x (position vec4, normal vec4,\n"
       "              uvw vec4 with the cell id in w), float32 little endian, 192 bytes; the\n"
       "              .json header describes the layout\n"
+      "  .g4tf/.g4b  G4MF (godot-4d's tetrahedral mesh): simplexes, cell normals per corner,\n"
+      "              UVW per corner, cell colors per simplex; the .g4tf embeds its buffer\n"
       "Exit codes: see 'cw4d --help'.");
   commands.push_back({cmd, [s] { run_tetrahedralize(*s); }});
 }

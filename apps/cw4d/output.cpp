@@ -1,15 +1,19 @@
 #include "output.hpp"
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 
+#include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/text.hpp"
+#include "cw4d/export/g4mf.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/export/mesh_files.hpp"
 #include "cw4d/export/obj.hpp"
 #include "cw4d/export/svg.hpp"
 #include "cw4d/section/uvw.hpp"
+#include "cw4d/tetrahedralize/catalogue.hpp"
 
 namespace cw4d::cli {
 
@@ -29,6 +33,9 @@ constexpr FormatEntry kFormats[] = {
     {SectionFormat::stl, "stl", {".stl", nullptr, nullptr}},
     {SectionFormat::svg, "svg", {".svg", nullptr, nullptr}},
     {SectionFormat::off, "4off", {".4off", ".off", ".noff"}},
+    {SectionFormat::g4tf, "g4tf", {".g4tf", nullptr, nullptr}},
+    {SectionFormat::g4tf_bin, "g4tf-bin", {".g4tf", nullptr, nullptr}},
+    {SectionFormat::g4b, "g4b", {".g4b", nullptr, nullptr}},
 };
 
 const FormatEntry& entry(SectionFormat f) {
@@ -53,7 +60,17 @@ std::string supported_formats() {
     if (!out.empty()) out += ", ";
     out += e.name;
   }
-  return out + " (nOFF also as .off and .noff)";
+  return out + " (nOFF also as .off and .noff; g4tf-bin: a .g4tf with its buffer in a .bin)";
+}
+
+bool is_g4mf(SectionFormat f) {
+  return f == SectionFormat::g4tf || f == SectionFormat::g4tf_bin || f == SectionFormat::g4b;
+}
+
+G4mfContainer g4mf_container(SectionFormat f) {
+  return f == SectionFormat::g4b        ? G4mfContainer::binary
+         : f == SectionFormat::g4tf_bin ? G4mfContainer::text_external
+                                        : G4mfContainer::text_embedded;
 }
 
 SectionFormat choose_format(const std::string& path, const std::string& forced) {
@@ -61,13 +78,16 @@ SectionFormat choose_format(const std::string& path, const std::string& forced) 
   const FormatEntry* by_extension = nullptr;
   for (const auto& e : kFormats)
     for (const char* x : e.extensions)
-      if (x && ext == x) by_extension = &e;
+      if (x && ext == x && !by_extension) by_extension = &e;
   if (!forced.empty()) {
     for (const auto& e : kFormats)
       if (forced == e.name ||
           (e.format == SectionFormat::off && (forced == "off" || forced == "noff"))) {
-        // An extension that names another format would mislead whoever opens the file.
-        if (by_extension && by_extension->format != e.format)
+        // An extension that names another format would mislead whoever opens the file (two
+        // formats share .g4tf: the buffer embedded or beside it).
+        const bool same_extension = std::any_of(e.extensions.begin(), e.extensions.end(),
+                                                [&](const char* x) { return x && ext == x; });
+        if (by_extension && by_extension->format != e.format && !same_extension)
           throw InputError("--format " + forced + " contradicts the extension of " +
                            quote_user_text(path) + " (" + by_extension->name +
                            "): name the file ." + std::string(e.extensions[0] + 1) +
@@ -99,6 +119,12 @@ void check_format(SectionFormat f, int dim, const std::string& where) {
     case SectionFormat::svg:
       if (dim != 4) throw InputError("SVG pictures show 3D sections of 4D models; " + where);
       break;
+    case SectionFormat::g4tf:
+    case SectionFormat::g4tf_bin:
+    case SectionFormat::g4b:
+      if (dim < 3 || dim > 17)
+        throw InputError("G4MF output holds sections of 3D..17D models; " + where);
+      break;
     default:
       if (dim != 4)
         throw InputError(std::string(format_name(f)) + " output holds 3D sections of 4D models; " +
@@ -112,6 +138,11 @@ std::vector<TriangleMesh> section_meshes(const Section& sec, const Input& input,
   if (uvw && !corner_uvw) corners = section_uvw(sec, input.models());
   return triangle_meshes(sec, input.object_names(),
                          uvw ? (corner_uvw ? corner_uvw : &corners) : nullptr);
+}
+
+std::string model_item_name(const std::string& spec) {
+  if (is_builtin_spec(spec, default_catalogue())) return spec;
+  return std::filesystem::path(spec).stem().string();
 }
 
 std::string describe_files(const std::vector<std::string>& files) {
@@ -168,6 +199,23 @@ std::vector<std::string> write_section(const std::string& path, const Section& s
     case SectionFormat::off:
       write_off_file(path, sec.complex);
       return {path};
+    case SectionFormat::g4tf:
+    case SectionFormat::g4tf_bin:
+    case SectionFormat::g4b: {
+      G4mfWriteOptions opt;
+      opt.container = g4mf_container(out.format);
+      const auto names = input.object_names();
+      opt.name =
+          input.is_scene || names.empty() ? "section" : model_item_name(names.front()) + " section";
+      opt.description = out.comment;
+      CornerUvw corners;
+      const CornerUvw* uvw = nullptr;
+      if (out.uvw && sec.complex.ambient_dim() == 3 && sec.complex.top_rank() >= 2) {
+        if (!out.corner_uvw) corners = section_uvw(sec, input.models());
+        uvw = out.corner_uvw ? out.corner_uvw : &corners;
+      }
+      return write_g4mf_section_file(path, sec, opt, uvw);
+    }
   }
   return {path};
 }

@@ -1,6 +1,7 @@
 #include "cw4d/complex/builtins.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +12,7 @@
 
 #include "cw4d/complex/builder.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/g4mf.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/operators.hpp"
 #include "cw4d/complex/text.hpp"
@@ -689,6 +691,7 @@ std::vector<BuiltinInfo> Catalogue::list() const {
   std::vector<BuiltinInfo> list;
   for (const ModelFamily& f : families_) list.push_back({f.usage, f.description});
   list.push_back({"FILE.4off | FILE.off", "a 4OFF / OFF / nOFF file (Stella4D, Miratope)"});
+  list.push_back({"FILE.g4tf | FILE.g4b", "a G4MF file (godot-4d's Good 4D Model Format)"});
   return list;
 }
 
@@ -739,8 +742,11 @@ Complex Catalogue::load(const std::string& spec) const {
   if (const ModelFamily* family = find(spec)) return family->make(spec, *this);
   std::error_code ec;
   if (std::filesystem::exists(spec, ec) || spec.find('/') != std::string::npos ||
-      spec.find('.') != std::string::npos)
-    return read_off_file(spec);
+      spec.find('.') != std::string::npos) {
+    std::string ext = std::filesystem::path(spec).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return is_g4mf_extension(ext) ? read_g4mf_file(spec) : read_off_file(spec);
+  }
   std::vector<std::string> names;
   for (const ModelFamily& f : families_) names.insert(names.end(), f.names.begin(), f.names.end());
   // A head typed with its arguments ("prsim:tesseract") is compared as a head.

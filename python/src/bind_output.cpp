@@ -4,8 +4,10 @@
 #include <filesystem>
 
 #include "common.hpp"
+#include "cw4d/complex/g4mf.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/scene.hpp"
+#include "cw4d/export/g4mf.hpp"
 #include "cw4d/export/gltf.hpp"
 #include "cw4d/export/mesh.hpp"
 #include "cw4d/export/mesh_files.hpp"
@@ -214,6 +216,49 @@ void bind_output(py::module_& m) {
       py::arg("path"), py::arg("complex"),
       "Writes a Complex (or a Section's complex) as nOFF with full double precision.");
 
+  m.def(
+      "read_g4mf",
+      [](const std::string& path) {
+        py::gil_scoped_release nogil;
+        return read_g4mf_file(path);
+      },
+      py::arg("path"),
+      "Reads a G4MF file (.g4tf, .g4b: godot-4d's Good 4D Model Format; see docs/formats.md). "
+      "Raises ParseError naming the part of the file.");
+  m.def(
+      "write_g4mf",
+      [](const std::string& path, py::object obj, bool separate_buffer, bool uvw,
+         const std::string& name, const std::string& description, py::object model) {
+        const std::string ext = lower_extension(path);
+        if (ext != ".g4tf" && ext != ".g4b")
+          throw InputError("write_g4mf writes .g4tf or .g4b files, not '" + path + "'");
+        if (separate_buffer && ext == ".g4b")
+          throw InputError("separate_buffer applies to .g4tf files (a .g4b holds its buffer)");
+        G4mfWriteOptions o;
+        o.container = ext == ".g4b"     ? G4mfContainer::binary
+                      : separate_buffer ? G4mfContainer::text_external
+                                        : G4mfContainer::text_embedded;
+        o.name = name.empty() ? std::filesystem::path(path).stem().string() : name;
+        o.description = description;
+        if (py::isinstance<Section>(obj)) {
+          const Section& s = obj.cast<const Section&>();
+          const Models models = models_of(model);
+          CornerUvw corners;
+          const bool has_uvw = uvw && corner_uvw(s, models, corners);
+          py::gil_scoped_release nogil;
+          return write_g4mf_section_file(path, s, o, has_uvw ? &corners : nullptr);
+        }
+        const Complex& c = obj.cast<const Complex&>();
+        py::gil_scoped_release nogil;
+        return write_g4mf_model_file(path, c, o, uvw);
+      },
+      py::arg("path"), py::arg("complex"), py::arg("separate_buffer") = false,
+      py::arg("uvw") = true, py::arg("name") = "", py::arg("description") = "",
+      py::arg("model") = py::none(),
+      "Writes a Complex (a model, with each facet's box-mapped UVW when `uvw`) or a Section (its "
+      "complex; with `model`, the Complex or Scene it was cut from, also its corner UVW) as G4MF: "
+      ".g4tf with the buffer embedded (separate_buffer: in a .bin beside it) or binary .g4b. "
+      "Returns the files written.");
   m.def(
       "render",
       [](const Section& s, int width, int height, int samples, const std::string& projection,

@@ -129,7 +129,7 @@ def test_paths_that_hold_nothing(cli, tmp_path):
     (empty / "folder.off").mkdir()  # a folder named like a file is not a file
     os.mkfifo(empty / "pipe.off")   # nor is a FIFO: skipped, never opened (no hang)
     done = cli("check", empty, check=False)
-    assert done.returncode == 2 and "no .off or .4off file" in done.stderr
+    assert done.returncode == 2 and "no .off, .4off, .g4tf or .g4b file" in done.stderr
 
 
 def test_hostile_files_are_reported_not_fatal(cli, tmp_path):

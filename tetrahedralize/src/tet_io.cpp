@@ -348,9 +348,34 @@ std::string gpu_buffer_header(const TetMesh& mesh, const std::string& bin_name) 
   return o.str();
 }
 
+G4mfSimplexMesh g4mf_simplex_mesh(const TetMesh& mesh, const std::vector<Rgba>& cell_colors) {
+  // TetMesh orders corners by det(N, p1 - p0, p2 - p0, p3 - p0) > 0; G4MF (and godot-4d) take
+  // perpendicular(p1 - p0, p2 - p0, p3 - p0) as the outward normal, and perpendicular(a, b, c)
+  // . N = det(a, b, c, N) = -det(N, a, b, c): swapping the last two corners turns one order
+  // into the other.
+  constexpr int order[4] = {0, 1, 3, 2};
+  G4mfSimplexMesh out;
+  out.positions = mesh.positions;
+  out.simplexes.reserve(4 * mesh.size());
+  const bool uvw = mesh.corner_uvw.cols() == static_cast<Eigen::Index>(4 * mesh.size());
+  if (uvw) out.corner_texture.resize(3, static_cast<Eigen::Index>(4 * mesh.size()));
+  for (std::size_t t = 0; t < mesh.size(); ++t)
+    for (int j = 0; j < 4; ++j) {
+      out.simplexes.push_back(mesh.tets[t][static_cast<std::size_t>(order[j])]);
+      if (uvw)
+        out.corner_texture.col(static_cast<Eigen::Index>(4 * t) + j) =
+            mesh.corner_uvw.col(static_cast<Eigen::Index>(4 * t) + order[j]).cast<float>();
+    }
+  out.simplex_cell = mesh.tet_cell;
+  out.cell_normals = mesh.cell_normals;
+  if (cell_colors.size() == mesh.cell_count()) out.cell_colors = cell_colors;
+  return out;
+}
+
 bool is_tet_mesh_path(const std::string& path) {
   const std::string e = lower_ext(path);
-  return e == ".vtu" || e == ".node" || e == ".ele" || e == ".4do" || e == ".bin" || e == ".json";
+  return e == ".vtu" || e == ".node" || e == ".ele" || e == ".4do" || e == ".bin" || e == ".json" ||
+         e == ".g4tf" || e == ".g4b";
 }
 
 void write_tet_mesh(const std::string& path, const TetMesh& mesh, bool binary) {
@@ -366,9 +391,14 @@ void write_tet_mesh(const std::string& path, const TetMesh& mesh, bool binary) {
     const std::string bin = with_ext(path, ".bin");
     write_pair(bin, gpu_buffer_bytes(mesh), with_ext(path, ".json"),
                gpu_buffer_header(mesh, std::filesystem::path(bin).filename().string()));
+  } else if (e == ".g4tf" || e == ".g4b") {
+    G4mfWriteOptions options;
+    options.container = e == ".g4b" ? G4mfContainer::binary : G4mfContainer::text_embedded;
+    options.name = std::filesystem::path(path).stem().string();
+    write_g4mf_simplex_file(path, g4mf_simplex_mesh(mesh), options);
   } else {
     throw InputError("cannot write a tetrahedral mesh as '" + path +
-                     "': use .vtu, .node/.ele, .4do or .bin/.json");
+                     "': use .vtu, .node/.ele, .4do, .bin/.json or .g4tf/.g4b");
   }
 }
 

@@ -111,6 +111,8 @@ constexpr UnavailableFamily kUnavailable[] = {
     {"snub 24-cell", "snub 24-cell s3s4o3o", kNoCgal},
     {"grand antiprism", "grand antiprism", kNoCgal},
     {"glome:R,N", "convex polytope inscribed in the 3-sphere", kNoCgal},
+    {"FILE.g4tf | FILE.g4b", "a G4MF file (godot-4d's Good 4D Model Format)",
+     "the viewer opens nOFF files; cw4d convert FILE.g4tf -o FILE.4off makes one"},
 };
 
 std::vector<double> to_doubles(const val& array) {
@@ -563,6 +565,7 @@ class WebModel {
 val catalogue() {
   val out = val::array();
   for (const BuiltinInfo& b : builtin_list(core_catalogue())) {
+    if (b.spec.find(".g4tf") != std::string::npos) continue;  // listed as unavailable below
     val e = val::object();
     e.set("spec", b.spec);
     e.set("description", b.description);

@@ -22,11 +22,18 @@
 //          (little endian): position vec4, normal vec4, uvw vec4 with the source cell id in the
 //          fourth uvw component (exact below 2^24); stride 48 bytes, 192 bytes per tetrahedron.
 //          The .json header names the layout, the counts and the .bin file.
+//  * .g4tf / .g4b  G4MF (cw4d/complex/g4mf.hpp), godot-4d's tetrahedral mesh: the shared
+//          vertices (float64), `simplexes` (each tetrahedron's corners 0, 1, 3, 2: G4MF takes
+//          perpendicular(p1 - p0, p2 - p0, p3 - p0) as the outward normal, the opposite of the
+//          Stokes order of TetMesh), the cells' normals per corner and per simplex, UVW per corner
+//          (float32), and, from the CLI, the cells' colors per simplex; a .g4tf embeds its
+//          buffer.
 #include <Eigen/Core>
 
 #include <cstdint>
 #include <string>
 
+#include "cw4d/complex/g4mf.hpp"
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 
 namespace cw4d {
@@ -68,11 +75,15 @@ std::string fourdo_text(const TetMesh& mesh);
 std::string gpu_buffer_bytes(const TetMesh& mesh);
 std::string gpu_buffer_header(const TetMesh& mesh, const std::string& bin_name);
 
+/// The tetrahedra as a G4MF simplex mesh (corners reordered as above); `cell_colors`, one per
+/// model cell, are kept when there is one per cell.
+G4mfSimplexMesh g4mf_simplex_mesh(const TetMesh& mesh, const std::vector<Rgba>& cell_colors = {});
+
 /// The tetrahedral formats write_tet_mesh knows, by extension.
 bool is_tet_mesh_path(const std::string& path);
 
 /// Writes a mesh in the format of the path's extension: .vtu (ASCII unless `binary`), .node or
-/// .ele (both files, same stem), .4do, .bin or .json (both files, same stem).
+/// .ele (both files, same stem), .4do, .bin or .json (both files, same stem), .g4tf or .g4b.
 /// \throw InputError for another extension; IoError when a file cannot be written.
 void write_tet_mesh(const std::string& path, const TetMesh& mesh, bool binary = false);
 
