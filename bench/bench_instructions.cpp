@@ -8,8 +8,9 @@
 // bench_compare's case of that name:
 //   slice    Slicer::slice over bench::generic_planes (256 generic planes)
 //   section  cw4d::section(model, plane) over the same planes
-//   tet      slice_tets over the model's tetrahedral mesh, the same planes (into the indexed
-//            TetSliceMesh where the headers have it, else the TetSection soup)
+//   tet      a TetSlicer over the model's tetrahedral mesh, the same planes, into one reused
+//            TetSliceMesh
+//   tet-nouvw  the same with TetSliceOptions::uvw off (trees that have the option)
 //   sweep    Slicer::sweep of 256 parallel layers (bench_compare's sweep), one sweep a round
 //   sweep-slices  the same 256 layers as 256 calls of Slicer::slice, a round
 //   sweep-copy    the same 256 layers copied (SliceBuffers assignment into buffers kept from
@@ -36,13 +37,30 @@
 #include "cw4d/tetrahedralize/tet_mesh.hpp"
 #include "cw4d/tetrahedralize/tet_slice.hpp"
 
+namespace cw4d {
+struct TetSliceOptions;  // (complete where the headers have it: compare.sh builds older trees too)
+}  // namespace cw4d
+
 namespace {
 
+// A TetSlicer with UVW on or off; false where the headers have no TetSliceOptions (then only
+// with UVW).
+template <class Options = cw4d::TetSliceOptions>
+bool set_tet_uvw(cw4d::TetSlicer& slicer, bool uvw) {
+  if constexpr (requires { sizeof(Options); }) {
+    slicer.set_options(Options{uvw});
+    return true;
+  } else {
+    return uvw;
+  }
+}
+
 int usage() {
-  std::fprintf(stderr,
-               "usage: bench_instructions slice|section|tet|sweep|sweep-slices|sweep-copy|atlas "
-               "MODEL "
-               "ROUNDS\n");
+  std::fprintf(
+      stderr,
+      "usage: bench_instructions slice|section|tet|tet-nouvw|sweep|sweep-slices|sweep-copy|atlas "
+      "MODEL "
+      "ROUNDS\n");
   return 2;
 }
 
@@ -70,10 +88,15 @@ int main(int argc, char** argv) {
     sink += cw4d::section(model, planes[0]).vertex_source.size();
     for (int r = 0; r < rounds; ++r)
       for (const auto& p : planes) sink += cw4d::section(model, p).vertex_source.size();
-  } else if (mode == "tet") {
+  } else if (mode == "tet" || mode == "tet-nouvw") {
     const cw4d::TetMesh mesh = cw4d::tetrahedralize(model);
     cw4d::TetSliceMesh out;
-    auto cut = [&](const cw4d::Hyperplane& p) { cw4d::slice_tets(mesh, p, out); };
+    cw4d::TetSlicer slicer;
+    if (!set_tet_uvw(slicer, mode == "tet")) {
+      std::fprintf(stderr, "bench_instructions: this tree's TetSlicer always computes UVW\n");
+      return 2;
+    }
+    auto cut = [&](const cw4d::Hyperplane& p) { slicer.slice(mesh, p, out); };
     cut(planes[0]);
     for (int r = 0; r < rounds; ++r)
       for (const auto& p : planes) {

@@ -5,7 +5,8 @@
 // planes (random unit normal from a seeded std::mt19937, offset uniform in +-0.9 max_radius). One
 // iteration is one slice; the planes are cycled. `tet/*` is the returning slice_tets (a new
 // TetSection per call), `tet-slicer/*` a caller-owned TetSlicer into one reused TetSliceMesh (the
-// steady path, printed as nanoseconds per tetrahedron at the end). Counter `tris` is the average
+// steady path, printed as nanoseconds per tetrahedron at the end), `tet-slicer-nouvw/*` the same
+// with TetSliceOptions::uvw off. Counter `tris` is the average
 // number of triangles per slice: for the CW path SliceBuffers::fan_triangles() (the k - 2 triangles
 // of each k-gon, what a fan triangulation sends to a GPU), for the tet path the triangles it emits.
 // `section/*` is the convenience call cw4d::section(model, plane) (a Section with its own Complex
@@ -95,8 +96,8 @@ void tet_slices(benchmark::State& state, const Model& m) {
 
 // The steady path: a caller-owned TetSlicer into one reused TetSliceMesh (indexed, welded).
 // Counter `ns/tet`: CPU nanoseconds per tetrahedron of the mesh.
-void tet_slicer_slices(benchmark::State& state, const Model& m) {
-  cw4d::TetSlicer slicer;
+void tet_slicer_slices(benchmark::State& state, const Model& m, bool uvw) {
+  cw4d::TetSlicer slicer(cw4d::TetSliceOptions{uvw});
   cw4d::TetSliceMesh out;
   std::size_t i = 0;
   double tris = 0;
@@ -141,7 +142,10 @@ std::vector<std::shared_ptr<Model>> register_cases(bool default_min_time) {
     const std::vector<std::pair<std::string, void (*)(benchmark::State&, const Model&)>> runs = {
         {"cw/" + spec, cw_slices},
         {"tet/" + spec, tet_slices},
-        {"tet-slicer/" + spec, tet_slicer_slices},
+        {"tet-slicer/" + spec,
+         [](benchmark::State& st, const Model& mm) { tet_slicer_slices(st, mm, true); }},
+        {"tet-slicer-nouvw/" + spec,
+         [](benchmark::State& st, const Model& mm) { tet_slicer_slices(st, mm, false); }},
         {"section/" + spec, section_slices},
         {"tetrahedralize/" + spec, build_mesh}};
     for (const auto& [name, fn] : runs) {
@@ -199,6 +203,11 @@ class RatioReporter : public benchmark::ConsoleReporter {
             "%.2fx the hot CW slice\n",
             m->name.c_str(), cpu_[ts], cpu_[ts] * 1e3 / static_cast<double>(m->mesh.size()),
             cpu_[ts] / cpu_[cw]);
+      const std::string tn = "tet-slicer-nouvw/" + m->name;
+      if (cpu_.count(tn))
+        std::printf("  %-9s the same without UVW: %.2f us, %.2f ns per tetrahedron\n",
+                    m->name.c_str(), cpu_[tn],
+                    cpu_[tn] * 1e3 / static_cast<double>(m->mesh.size()));
       const std::string sec = "section/" + m->name;
       if (cpu_.count(sec))
         std::printf("  %-9s section() / Slicer::slice: %.2fx (%.2f vs %.2f us)\n", m->name.c_str(),

@@ -184,6 +184,91 @@ TEST_CASE("tet slicer: the returning and free forms are a slicer's slice", "[tet
   CHECK(reused.slice(mesh, p).positions == moved.slice(mesh, p).positions);
 }
 
+TEST_CASE("tet slicer: UVW left out changes nothing else, bit for bit", "[tet][slicer]") {
+  for (const char* spec : {"tesseract", "24-cell", "120-cell", "600-cell", "duoprism:5,7"}) {
+    INFO(spec);
+    const TetMesh mesh = tetrahedralize(load_model(spec, default_catalogue()));
+    const AffineTransform xf = AffineTransform::rotation(4, 1, 3, 0.45) *
+                               AffineTransform::scale(Eigen::Vector4d(1.0, 1.0, -1.0, 1.0));
+    TetSlicer with, without(TetSliceOptions{false});
+    CHECK(with.options().uvw);
+    CHECK_FALSE(without.options().uvw);
+    TetSliceMesh a, b;
+    TetSection sa, sb;
+    auto planes = generic_planes(mesh, 24, 11u);
+    // Planes through mesh vertices too (the general loop, welded), and one that misses.
+    for (Eigen::Index v : {Eigen::Index{0}, mesh.positions.cols() / 2}) {
+      const Eigen::Vector4d n = Eigen::Vector4d(1.0, 0.5, -0.25, 0.75).normalized();
+      const Eigen::VectorXd x = xf.apply(Eigen::VectorXd(mesh.positions.col(v)));
+      planes.push_back(Hyperplane::from(Eigen::VectorXd(n), n.dot(Eigen::Vector4d(x))));
+    }
+    planes.push_back(Hyperplane::from(Eigen::VectorXd(Eigen::Vector4d::UnitW()), 1e6));
+    std::size_t triangles = 0;
+    for (const auto& p : planes) {
+      with.slice(mesh, p, xf, a);
+      without.slice(mesh, p, xf, b);
+      triangles += a.triangle_count();
+      CHECK(a.uvw.size() == 9 * a.triangle_count());
+      CHECK(b.uvw.empty());
+      REQUIRE(a.triangles == b.triangles);
+      CHECK(a.tet == b.tet);
+      CHECK(a.cell == b.cell);
+      REQUIRE(a.positions.size() == b.positions.size());
+      CHECK(same_bits(a.positions.data(), b.positions.data(), a.positions.size()));
+      REQUIRE(a.normals.size() == b.normals.size());
+      CHECK(same_bits(a.normals.data(), b.normals.data(), a.normals.size()));
+      REQUIRE(a.vertex_source.size() == b.vertex_source.size());
+      for (std::size_t v = 0; v < a.vertex_source.size(); ++v) {
+        CHECK(a.vertex_source[v] == b.vertex_source[v]);
+        CHECK(same_bits(&a.vertex_source[v].t, &b.vertex_source[v].t, 1));
+      }
+      with.slice(mesh, p, xf, sa);
+      without.slice(mesh, p, xf, sb);
+      CHECK(sb.uvw.cols() == 0);
+      CHECK(sa.uvw.cols() == sa.positions.cols());
+      CHECK(sa.positions == sb.positions);
+      CHECK(sa.normals == sb.normals);
+      CHECK(sa.corners == sb.corners);
+      CHECK(sa.tet == sb.tet);
+      // to_soup of a mesh without UVW is the soup without UVW.
+      TetSection from_mesh;
+      to_soup(b, from_mesh);
+      CHECK(from_mesh.uvw.cols() == 0);
+      CHECK(from_mesh.positions.cols() == 3 * static_cast<Eigen::Index>(b.triangle_count()));
+    }
+    CHECK(triangles > 0);
+    // Turned on again, the same slicer gives UVW again, equal to the other's.
+    without.set_options(TetSliceOptions{});
+    without.slice(mesh, planes.front(), xf, b);
+    with.slice(mesh, planes.front(), xf, a);
+    CHECK(a.uvw == b.uvw);
+  }
+  // Without UVW, the section's corner UVW cannot be given: said, not guessed.
+  const Complex model = load_model("tesseract");
+  const TetMesh mesh = tetrahedralize(model);
+  TetSlicer without(TetSliceOptions{false});
+  const TetSection cut = without.slice(
+      mesh, Hyperplane::from(Eigen::VectorXd(Eigen::Vector4d(1, 1, 1, 1).normalized()), 0.1));
+  REQUIRE(cut.triangle_count() > 0);
+  CHECK_THROWS_AS(tet_section_uvw(cut, to_section(cut, model)), InputError);
+}
+
+TEST_CASE("tet slicer: no allocation without UVW either", "[tet][slicer]") {
+  const TetMesh mesh = tetrahedralize(load_model("120-cell"));
+  const auto planes = generic_planes(mesh, 64, 20240401u);
+  TetSlicer slicer(TetSliceOptions{false});
+  TetSliceMesh out;
+  for (const auto& p : planes) slicer.slice(mesh, p, out);
+  const std::size_t before = test::allocation_count();
+  std::size_t triangles = 0;
+  for (const auto& p : planes) {
+    slicer.slice(mesh, p, out);
+    triangles += out.triangle_count();
+  }
+  CHECK(test::allocation_count() - before == 0);
+  CHECK(triangles > 0);
+}
+
 TEST_CASE("tetrahedralize_cells: convex cells as tetrahedralize, non-convex ones left out",
           "[tet][fence]") {
   for (const char* spec : {"tesseract", "120-cell", "duoprism:5,7", "glome:1,3"}) {

@@ -45,7 +45,9 @@ void run_slice(SliceSettings& s) {
     if (input.is_scene) throw InputError("--method tet cuts a single model, not a --scene");
     if (input.dim() != 4) throw InputError("--method tet needs a 4D model");
     const Complex& model = *input.models().front();
-    const TetSection ts = slice_tets(tetrahedralize(model), p.plane(s.offset), p.model_to_world(4));
+    TetSlicer slicer(TetSliceOptions{out.uvw});  // (--no-uvw: none computed)
+    const TetSection ts =
+        slicer.slice(tetrahedralize(model), p.plane(s.offset), p.model_to_world(4));
     cut_result.section = to_section(ts, model);
     if (out.uvw && !ts.empty()) {
       tet_uvw = tet_section_uvw(ts, cut_result.section);

@@ -388,7 +388,7 @@ inline double projected_normal(const Eigen::Matrix<double, 3, 4>& NB, const doub
 // An index whose entries are in range but stale (tets edited in place with their count kept) is
 // the caller's error (documented at slice_tets).
 bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, Scratch& sc,
-                 TetSliceMesh& out) {
+                 bool want_uvw, TetSliceMesh& out) {
   const std::array<std::uint32_t, 2>* edges = index.edges.data();
   const std::size_t ne = index.edges.size();
   const std::array<std::uint32_t, 6>* tet_edges = index.tet_edges.data();
@@ -494,7 +494,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   if (stale) return false;
   out.triangles.resize(3 * tris);
   out.normals.resize(3 * tris);
-  out.uvw.resize(9 * tris);
+  out.uvw.resize(want_uvw ? 9 * tris : 0);
   out.tet.resize(tris);
   out.cell.resize(tris);
   // Numbering and look-up in one pass, backwards: the owning (last) slot of an edge comes first
@@ -588,8 +588,10 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     out_cell[w] = out_cell[w + 1] = list4[j].cell;
   }
   const std::uint32_t top = nvert - 1;  // vertex top - r is the r-th numbered from the end
-  auto write_cases = [&](auto count_tag, const CutRecord* list, std::size_t n) {
+  // (compiled four times: one triangle or a quad, with or without UVW)
+  auto write_cases = [&](auto count_tag, auto uvw_tag, const CutRecord* list, std::size_t n) {
     constexpr int count = decltype(count_tag)::value;
+    constexpr bool with_uvw = decltype(uvw_tag)::value;
     for (std::size_t j = 0; j < n; ++j) {
       const CutRecord rec = list[j];
       const std::uint32_t t = rec.cut >> 4;
@@ -601,23 +603,26 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       double uvw[count][3];
       std::uint32_t id[count];
       for (int k = 0; k < count; ++k) {
-        // u runs from the lower vertex id of the edge (picked by index arithmetic: which end is
-        // lower is not predictable).
-        const unsigned ka = ic.ka[k], kb = ic.kb[k];
-        const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
-        const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
         id[k] = top - vid[k];
-        const double u = U[id[k]];
-        const double* ua = tu + 3 * lo;
-        const double* ub = tu + 3 * hi;
-        for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
+        if constexpr (with_uvw) {
+          // u runs from the lower vertex id of the edge (picked by index arithmetic: which end
+          // is lower is not predictable).
+          const unsigned ka = ic.ka[k], kb = ic.kb[k];
+          const unsigned b_low = 0u - static_cast<unsigned>(tv[kb] < tv[ka]);
+          const unsigned lo = ka ^ ((ka ^ kb) & b_low), hi = ka ^ kb ^ lo;
+          const double u = U[id[k]];
+          const double* ua = tu + 3 * lo;
+          const double* ub = tu + 3 * hi;
+          for (int r = 0; r < 3; ++r) uvw[k][r] = (1.0 - u) * ua[r] + u * ub[r];
+        }
       }
       auto emit = [&](std::size_t at, int i0, int i1, int i2) {
         const int c[3] = {i0, i1, i2};
         for (int k = 0; k < 3; ++k) {
           out_tri[3 * at + static_cast<std::size_t>(k)] = id[c[k]];
-          for (int r = 0; r < 3; ++r)
-            out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
+          if constexpr (with_uvw)
+            for (int r = 0; r < 3; ++r)
+              out_uvw[9 * at + static_cast<std::size_t>(3 * k + r)] = uvw[c[k]][r];
         }
         for (int r = 0; r < 3; ++r) out_nrm[3 * at + static_cast<std::size_t>(r)] = n3[r];
       };
@@ -631,8 +636,15 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
       }
     }
   };
-  write_cases(std::integral_constant<int, 3>{}, list3, n3);
-  write_cases(std::integral_constant<int, 4>{}, list4, n4);
+  using Tri = std::integral_constant<int, 3>;
+  using Quad = std::integral_constant<int, 4>;
+  if (want_uvw) {
+    write_cases(Tri{}, std::true_type{}, list3, n3);
+    write_cases(Quad{}, std::true_type{}, list4, n4);
+  } else {
+    write_cases(Tri{}, std::false_type{}, list3, n3);
+    write_cases(Quad{}, std::false_type{}, list4, n4);
+  }
   return true;
 }
 
@@ -644,7 +656,8 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
 // formulas of the indexed cut (CrossingProjector, projected_normal): the same bits as the
 // indexed cut's shared crossing. The same triangles, in the same order and orientation, as the
 // general loop of slice_tets.
-void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetSection& out) {
+void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, bool want_uvw,
+                      TetSection& out) {
   const double* s = sc.s.data();
   const Side* side = sc.side.data();
   const std::size_t T = mesh.size();
@@ -670,7 +683,8 @@ void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetS
   const auto n = static_cast<Eigen::Index>(3 * tris);
   if (out.positions.cols() != n) out.positions.conservativeResize(3, n);
   if (out.normals.cols() != n) out.normals.conservativeResize(3, n);
-  if (out.uvw.cols() != n) out.uvw.conservativeResize(3, n);
+  const auto nu = want_uvw ? n : Eigen::Index{0};
+  if (out.uvw.cols() != nu) out.uvw.conservativeResize(3, nu);
   out.corners.resize(3 * tris);
   out.tet.resize(tris);
   out.cell.resize(tris);
@@ -711,8 +725,9 @@ void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetS
       for (int r = 0; r < 3; ++r) n3[r] *= inv;
     }
     // The body compiled once for triangles and once for quads (fixed trip counts).
-    auto cut_one = [&](auto count_tag) {
+    auto cut_one = [&](auto count_tag, auto uvw_tag) {
       constexpr int count = decltype(count_tag)::value;
+      constexpr bool with_uvw = decltype(uvw_tag)::value;
       double pos[4][3], uvw[4][3];
       TetCutPoint cp[4];
       for (int e = 0; e < count; ++e) {
@@ -720,9 +735,11 @@ void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetS
         const double u = s[a] / (s[a] - s[b]);
         cp[e] = {a, b, u};
         project(P + 4 * std::size_t{a}, P + 4 * std::size_t{b}, u, pos[e]);
-        const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
-        const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
-        for (int r = 0; r < 3; ++r) uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
+        if constexpr (with_uvw) {
+          const double* ua = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(ka));
+          const double* ub = UVW + 3 * (4 * std::size_t{t} + static_cast<std::size_t>(kb));
+          for (int r = 0; r < 3; ++r) uvw[e][r] = (1.0 - u) * ua[r] + u * ub[r];
+        }
       }
       // Orientation: the polygon's normal must point along the projected outward normal.
       const double d1[3] = {pos[1][0] - pos[0][0], pos[1][1] - pos[0][1], pos[1][2] - pos[0][2]};
@@ -745,7 +762,7 @@ void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetS
           for (int r = 0; r < 3; ++r) {
             out_pos[3 * col + r] = pos[c[k]][r];
             out_nrm[3 * col + r] = n3[r];
-            out_uvw[3 * col + r] = uvw[c[k]][r];
+            if constexpr (with_uvw) out_uvw[3 * col + r] = uvw[c[k]][r];
           }
           out_corner[col] = cp[c[k]];
         }
@@ -756,16 +773,26 @@ void cut_generic_soup(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetS
       emit(0, 1 + rev, 2 - rev);
       if constexpr (count == 4) emit(0, 2 + rev, 3 - rev);
     };
-    if (cc.count == 4)
-      cut_one(std::integral_constant<int, 4>{});
-    else
-      cut_one(std::integral_constant<int, 3>{});
+    using Tri = std::integral_constant<int, 3>;
+    using Quad = std::integral_constant<int, 4>;
+    if (want_uvw) {
+      if (cc.count == 4)
+        cut_one(Quad{}, std::true_type{});
+      else
+        cut_one(Tri{}, std::true_type{});
+    } else {
+      if (cc.count == 4)
+        cut_one(Quad{}, std::false_type{});
+      else
+        cut_one(Tri{}, std::false_type{});
+    }
   }
 }
 
 // The general cut into a soup (vertices on the plane: degenerate triangles dropped, flat faces
 // between two tetrahedra cancelled); on-plane vertices count as positive or negative.
-void cut_general(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetSection& out) {
+void cut_general(const TetMesh& mesh, const Prepared& pr, Scratch& sc, bool want_uvw,
+                 TetSection& out) {
   out.corners.clear();
   out.tet.clear();
   out.cell.clear();
@@ -791,12 +818,13 @@ void cut_general(const TetMesh& mesh, const Prepared& pr, Scratch& sc, TetSectio
     const auto n = static_cast<Eigen::Index>(all_pos.size());
     if (out.positions.cols() != n) out.positions.resize(3, n);
     if (out.normals.cols() != n) out.normals.resize(3, n);
-    if (out.uvw.cols() != n) out.uvw.resize(3, n);
+    const auto nu = want_uvw ? n : Eigen::Index{0};
+    if (out.uvw.cols() != nu) out.uvw.resize(3, nu);
     for (Eigen::Index i = 0; i < n; ++i) {
       const auto j = static_cast<std::size_t>(i);
       out.positions.col(i) = all_pos[j];
       out.normals.col(i) = all_nrm[j];
-      out.uvw.col(i) = all_uvw[j];
+      if (want_uvw) out.uvw.col(i) = all_uvw[j];
     }
   };
   if (!pr.any_pos && !pr.any_neg) {  // everything on the plane: a flat model
@@ -922,7 +950,8 @@ void weld_soup(const TetSection& soup, TetSliceMesh& out) {
   out.vertex_source.clear();
   out.triangles.resize(3 * T);
   out.normals.resize(3 * T);
-  out.uvw.resize(9 * T);
+  const bool with_uvw = soup.uvw.cols() == static_cast<Eigen::Index>(3 * T);
+  out.uvw.resize(with_uvw ? 9 * T : 0);
   out.tet = soup.tet;
   out.cell = soup.cell;
   for (std::size_t i = 0; i < T; ++i) {
@@ -937,8 +966,9 @@ void weld_soup(const TetSection& soup, TetSliceMesh& out) {
           out.positions.push_back(soup.positions(r, static_cast<Eigen::Index>(c)));
       }
       out.triangles[c] = it->second;
-      for (int r = 0; r < 3; ++r)
-        out.uvw[3 * c + static_cast<std::size_t>(r)] = soup.uvw(r, static_cast<Eigen::Index>(c));
+      if (with_uvw)
+        for (int r = 0; r < 3; ++r)
+          out.uvw[3 * c + static_cast<std::size_t>(r)] = soup.uvw(r, static_cast<Eigen::Index>(c));
     }
     for (int r = 0; r < 3; ++r)
       out.normals[3 * i + static_cast<std::size_t>(r)] =
@@ -985,12 +1015,14 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
   const auto n = static_cast<Eigen::Index>(3 * T);
   if (out.positions.cols() != n) out.positions.resize(3, n);
   if (out.normals.cols() != n) out.normals.resize(3, n);
-  if (out.uvw.cols() != n) out.uvw.resize(3, n);
+  const bool with_uvw = slice.uvw.size() == 9 * T;
+  const auto nu = with_uvw ? n : Eigen::Index{0};
+  if (out.uvw.cols() != nu) out.uvw.resize(3, nu);
   out.corners.resize(3 * T);
   out.tet = slice.tet;
   out.cell = slice.cell;
   if (T == 0) return;
-  std::copy(slice.uvw.begin(), slice.uvw.end(), out.uvw.data());  // the same layout
+  if (with_uvw) std::copy(slice.uvw.begin(), slice.uvw.end(), out.uvw.data());  // the same layout
   const std::uint32_t* tri = slice.triangles.data();
   const double* P = slice.positions.data();
   const double* N = slice.normals.data();
@@ -1011,6 +1043,8 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
 }
 
 TetSlicer::TetSlicer() : scratch_(std::make_unique<Scratch>()) {}
+TetSlicer::TetSlicer(TetSliceOptions options)
+    : scratch_(std::make_unique<Scratch>()), options_(options) {}
 TetSlicer::~TetSlicer() = default;
 TetSlicer::TetSlicer(TetSlicer&&) noexcept = default;
 TetSlicer& TetSlicer::operator=(TetSlicer&&) noexcept = default;
@@ -1050,11 +1084,11 @@ void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, const Affine
     return;
   }
   if (pr.any_on) {
-    cut_general(mesh, pr, sc, out);
+    cut_general(mesh, pr, sc, options_.uvw, out);
     return;
   }
   // The soup's own cut (the triangles of the indexed one, corner by corner, the same bits).
-  cut_generic_soup(mesh, pr, sc, out);
+  cut_generic_soup(mesh, pr, sc, options_.uvw, out);
 }
 
 void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, const AffineTransform& xf,
@@ -1069,14 +1103,14 @@ void TetSlicer::slice(const TetMesh& mesh, const Hyperplane& plane, const Affine
   }
   if (pr.any_on) {
     set_frame(sc.soup.frame, plane);
-    cut_general(mesh, pr, sc, sc.soup);
+    cut_general(mesh, pr, sc, options_.uvw, sc.soup);
     weld_soup(sc.soup, out);
     return;
   }
-  if (cut_indexed(mesh, edge_index(mesh, sc), pr, sc, out)) return;
+  if (cut_indexed(mesh, edge_index(mesh, sc), pr, sc, options_.uvw, out)) return;
   // The mesh's index no longer describes its tets (edited in place without index_tet_edges):
   // a copy's, as for a mesh without one.
-  const bool ok = cut_indexed(mesh, indexed_copy(mesh, sc), pr, sc, out);
+  const bool ok = cut_indexed(mesh, indexed_copy(mesh, sc), pr, sc, options_.uvw, out);
   assert(ok);
   static_cast<void>(ok);
 }
@@ -1186,6 +1220,8 @@ CornerUvw tet_section_uvw(const TetSection& slice, const Section& section) {
   if (faces != slice.triangle_count())
     throw InputError("tet section UVW: the section has " + std::to_string(faces) +
                      " faces, the slice " + std::to_string(slice.triangle_count()) + " triangles");
+  if (faces > 0 && slice.uvw.cols() != static_cast<Eigen::Index>(3 * faces))
+    throw InputError("tet section UVW: the slice has no UVW (TetSliceOptions::uvw was off)");
   CornerUvw out;
   out.offset.resize(faces + 1);
   out.uvw.resize(3, static_cast<Eigen::Index>(3 * faces));

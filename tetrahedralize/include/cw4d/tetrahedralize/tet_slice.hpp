@@ -37,7 +37,7 @@ struct TetSection {
   HyperplaneFrame frame;
   Eigen::Matrix3Xd positions;  ///< 3 x 3T, section coordinates (frame.basis)
   Eigen::Matrix3Xd normals;  ///< 3 x 3T, the interpolated 4D normal projected into the plane, unit
-  Eigen::Matrix3Xd uvw;      ///< 3 x 3T, interpolated texture coordinates
+  Eigen::Matrix3Xd uvw;  ///< 3 x 3T, interpolated texture coordinates (3 x 0 when not asked for)
   std::vector<TetCutPoint> corners;  ///< 3T
   std::vector<std::uint32_t> tet;    ///< T: source tetrahedron
   std::vector<std::uint32_t> cell;   ///< T: source 3-cell of the model
@@ -70,7 +70,8 @@ struct TetSliceMesh {
   /// 3T: the unit normal of triangle i (its cell's outward normal projected into the plane).
   std::vector<double> normals;
   /// 9T: texture coordinates of corner k of triangle i at [9i + 3k, 9i + 3k + 3), interpolated
-  /// along the cut edge of the source tetrahedron (corners of different cells differ).
+  /// along the cut edge of the source tetrahedron (corners of different cells differ); empty
+  /// when the slicer's options leave UVW out.
   std::vector<double> uvw;
   std::vector<std::uint32_t> tet;   ///< T: source tetrahedron
   std::vector<std::uint32_t> cell;  ///< T: source 3-cell of the model
@@ -97,7 +98,7 @@ struct TetSliceMesh {
 };
 
 /// The triangle soup of an indexed slice: corner k of triangle i gets the position and source of
-/// its vertex, the triangle's normal and its own uvw.
+/// its vertex, the triangle's normal and its own uvw (none when the slice has none).
 void to_soup(const TetSliceMesh& slice, TetSection& out);
 
 /// The 16-case table: for the sign mask m (bit k set when corner k is on the positive side),
@@ -107,6 +108,14 @@ struct TetCutCase {
   std::array<std::array<int, 2>, 4> edges;
 };
 extern const std::array<TetCutCase, 16> kTetCutTable;
+
+/// What a TetSlicer computes besides the triangles, their positions, normals and sources.
+struct TetSliceOptions {
+  /// Per-corner texture coordinates (TetSection::uvw, TetSliceMesh::uvw). Off, those arrays are
+  /// left empty and a slice costs about a fifth less (the interpolation and its 9 doubles per
+  /// triangle are most of the triangle pass); everything else is the same, bit for bit.
+  bool uvw = true;
+};
 
 /// The tetrahedral slicer: the cut of a TetMesh by a hyperplane, with every scratch buffer it
 /// needs kept from one slice to the next. The caller owns it (one per thread: a TetSlicer is not
@@ -125,6 +134,10 @@ extern const std::array<TetCutCase, 16> kTetCutTable;
 class TetSlicer {
  public:
   TetSlicer();
+  explicit TetSlicer(TetSliceOptions options);
+  /// What the next slices compute (the output buffers keep their storage when it changes).
+  void set_options(TetSliceOptions options) { options_ = options; }
+  const TetSliceOptions& options() const { return options_; }
   ~TetSlicer();
   TetSlicer(TetSlicer&&) noexcept;
   TetSlicer& operator=(TetSlicer&&) noexcept;
@@ -156,6 +169,7 @@ class TetSlicer {
 
  private:
   std::unique_ptr<Scratch> scratch_;
+  TetSliceOptions options_;
 };
 
 /// The slices of TetSlicer through one TetSlicer per thread (kept between calls).
