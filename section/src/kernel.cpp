@@ -125,11 +125,34 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* 
                                     std::uint32_t e0, std::uint32_t e1, std::uint32_t* list,
                                     std::uint32_t count) {
   const std::uint32_t* ends = edge_ends + 2 * std::size_t{e0};
-  for (std::uint32_t e = e0; e < e1; ++e, ends += 2) {
+  std::uint32_t e = e0;
+  // Four edges a round (the loop's own counting is then a quarter of the work per edge).
+  for (; e + 4 <= e1; e += 4, ends += 8) {
+    list[count] = e;
+    count += side[ends[0]] != side[ends[1]];
+    list[count] = e + 1;
+    count += side[ends[2]] != side[ends[3]];
+    list[count] = e + 2;
+    count += side[ends[4]] != side[ends[5]];
+    list[count] = e + 3;
+    count += side[ends[6]] != side[ends[7]];
+  }
+  for (; e < e1; ++e, ends += 2) {
     list[count] = e;
     count += side[ends[0]] != side[ends[1]];
   }
   return count;
+}
+
+// The implied rows of nse section edges: offsets 2 i, signs -1, +1 (four edges' signs a word).
+inline void write_edge_rows(std::uint32_t nse, std::uint32_t* off, std::int8_t* sg) {
+  for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
+  const std::int8_t pairs[8] = {-1, 1, -1, 1, -1, 1, -1, 1};
+  std::uint64_t word;
+  std::memcpy(&word, pairs, 8);
+  std::uint32_t i = 0;
+  for (; i + 4 <= nse; i += 4) std::memcpy(sg + 2 * i, &word, 8);
+  for (; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
 }
 
 // Rank 1 of the kernel: the crossing of each listed edge (its section vertex v, in list order),
@@ -137,8 +160,9 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* 
 // faces' counts (face_count, up to 3) and their two crossings (face_ends). False when a
 // crossing needs the general path (near_general: near an end or nearly parallel to the plane).
 // Everything in locals: the byte stores of the counts would otherwise make the compiler reload
-// every pointer kept in memory.
-template <class CrossingTest>
+// every pointer kept in memory. Stride: the number of faces above every edge when it is known
+// at compile time (the inner loop unrolls), else 0 (then `stride`, or the offsets, say).
+template <std::uint32_t Stride, class CrossingTest>
 bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::uint32_t* edge_ends,
                     const Side* side, const double* s, const CrossingTest& near_general,
                     const std::uint32_t* edge_model, VertexSource* vs, std::uint32_t* vertex_edge,
@@ -157,8 +181,13 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
     // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
     // cut that times the edge's sign there (the coface's top bit: -1).
     const std::uint32_t tail_above = side[a] == Side::Negative ? 0u : kFlip;
-    const std::uint32_t j0 = stride ? e * stride : up_offsets[e];
-    const std::uint32_t j1 = stride ? j0 + stride : up_offsets[e + 1];
+    std::uint32_t j0, j1;
+    if constexpr (Stride > 0) {
+      j0 = e * Stride, j1 = j0 + Stride;
+    } else {
+      j0 = stride ? e * stride : up_offsets[e];
+      j1 = stride ? j0 + stride : up_offsets[e + 1];
+    }
     for (std::uint32_t j = j0; j < j1; ++j) {
       const std::uint32_t up = up_ids[j];
       const std::uint32_t f = up & kIndex;
@@ -243,10 +272,13 @@ inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* t
                                  const SideT* side, const std::uint32_t* cell_faces,
                                  const std::uint32_t* face_edge, std::uint32_t* ids,
                                  std::int8_t* signs) {
-  const std::uint32_t pattern = static_cast<std::uint32_t>(side[tv[0]] == SideT::Positive) |
-                                static_cast<std::uint32_t>(side[tv[1]] == SideT::Positive) << 1 |
-                                static_cast<std::uint32_t>(side[tv[2]] == SideT::Positive) << 2 |
-                                static_cast<std::uint32_t>(side[tv[3]] == SideT::Positive) << 3;
+  // The kernel's sides are -1 or +1 (a vertex on the plane left the fast path): a side's sign
+  // bit is set below, so the four sign bits give the vertices below, the complement of the
+  // pattern.
+  const auto below = [&](int k) {
+    return static_cast<std::uint32_t>(static_cast<std::uint8_t>(side[tv[k]])) >> 7 << k;
+  };
+  const std::uint32_t pattern = (below(0) | below(1) | below(2) | below(3)) ^ 15u;
   const std::uint32_t code = tet_cases[pattern];
   for (std::uint32_t k = 0; k < 4; ++k) {
     const std::uint32_t entry = code >> (3 + 3 * k);
@@ -257,6 +289,32 @@ inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* t
       ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
   std::memcpy(signs, &kSignBytes[minus], 4);
   return code & 7u;
+}
+
+// Phase 3 for a model of tetrahedra when nothing above the polygons is written per polygon: the
+// polygon of each of the ncut listed cells from its table (tet_polygon; a tetrahedron's four
+// faces are row 4 x of cell_faces), its offset, source and facet, in a loop of its own that
+// keeps everything in registers. False when a table leaves a cell to the generic gathering.
+inline bool tet_polygons(const std::uint32_t* visit, std::uint32_t ncut,
+                         const std::uint32_t* tet_vertex, const std::uint16_t* tet_case,
+                         const Side* side, const std::uint32_t* cell_faces,
+                         const std::uint32_t* face_edge, const std::uint32_t* cell_model,
+                         std::uint32_t* poly_ids, std::int8_t* poly_signs, std::uint32_t* poly_off,
+                         std::uint32_t* src, std::uint32_t* facet, std::uint32_t* entries_out) {
+  std::uint32_t entries = 0;
+  for (std::uint32_t i = 0; i < ncut; ++i) {
+    const std::uint32_t x = visit[i];
+    const std::uint32_t added = tet_polygon(
+        tet_vertex + 4 * std::size_t{x}, tet_case + 16 * std::size_t{x}, side,
+        cell_faces + 4 * std::size_t{x}, face_edge, poly_ids + entries, poly_signs + entries);
+    if (added == 7) return false;
+    entries += added;
+    poly_off[i + 1] = entries;
+    src[i] = cell_model ? cell_model[x] : x;
+    facet[i] = x;
+  }
+  *entries_out = entries;
+  return true;
 }
 
 // The polygon of a cut cell of more than four faces from the ns steps its cut faces left in its
@@ -491,9 +549,14 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   out.vertex_source.resize(count);
   section_edge_.resize(count);
   std::uint32_t cut_faces_bound = 0;
-  if (!hand_crossings(list, count, edge_ends, side, s, needs_general, edge_model,
-                      out.vertex_source.data(), section_edge_.data(), edge_up.offsets, edge_up_ids,
-                      edge_up.stride, face_count, face_ends, &cut_faces_bound)) {
+  // (three faces above every edge: the cells' faces are polygons of a simple polytope's
+  // 3-skeleton, such as the tesseract's, the 24-cell's, the 120-cell's; five: the 600-cell's)
+  const auto hand = edge_up.stride == 3   ? hand_crossings<3, SliceModel::Compiled::CrossingTest>
+                    : edge_up.stride == 5 ? hand_crossings<5, SliceModel::Compiled::CrossingTest>
+                                          : hand_crossings<0, SliceModel::Compiled::CrossingTest>;
+  if (!hand(list, count, edge_ends, side, s, needs_general, edge_model, out.vertex_source.data(),
+            section_edge_.data(), edge_up.offsets, edge_up_ids, edge_up.stride, face_count,
+            face_ends, &cut_faces_bound)) {
     reason_ = FallbackReason::Weld;
     return stop(KernelResult::General);
   }
@@ -544,12 +607,7 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     cut_cells_bound = h.pairs;
     if (h.bad) return stop(KernelResult::Generic);
   }
-  {
-    std::uint32_t* const off = edges.offsets.data();
-    std::int8_t* const sg = edges.signs.data();
-    for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
-    for (std::uint32_t i = 0; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
-  }
+  write_edge_rows(nse, edges.offsets.data(), edges.signs.data());
   // Phase 3, list_marks + tet_polygon / chain_fixed / chain_bucket (rank 3, the facets): a cut cell
   // reads its faces' section edges (one step each, its direction the opposite of the face's sign in
   // the cell); one loop through every step, followed from the smallest tail, is the polygon the
@@ -602,7 +660,13 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     const std::uint16_t* const tet_case = m.tet_cases_.data();
     std::uint32_t entries = 0;
     bool ok = true;
-    for (const std::uint32_t* it = visit; it != end && ok; ++it) {
+    const bool tets_alone = tet_vertex && !(above && !m.single_solid_);
+    if (tets_alone) {
+      ok = tet_polygons(visit, ncut, tet_vertex, tet_case, side, cell_faces, face_edge, cell_model,
+                        poly_ids, poly_signs, poly_off, src, facet, &entries);
+      npoly = ok ? ncut : 0;
+    }
+    for (const std::uint32_t* it = visit; it != end && ok && !tets_alone; ++it) {
       const std::uint32_t x = *it;
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
