@@ -325,7 +325,7 @@ inline bool tet_polygons(const std::uint32_t* visit, std::uint32_t ncut,
 template <class CellStepT, class LoopStepT>
 inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step, std::uint32_t st,
                          std::uint32_t* ids, std::int8_t* signs, std::uint32_t* added) {
-  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  constexpr std::uint32_t kIndex = 0x7fffffffu;
   std::uint32_t lo = 0xffffffffu;
   bool pinch = false;
   for (std::uint32_t k = 0; k < ns; ++k) {
@@ -341,7 +341,8 @@ inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step,
     const LoopStepT sp = step[cur];
     if (sp.stamp != st) return false;  // the chain does not close
     ids[k] = sp.edge & kIndex;
-    signs[k] = (sp.edge & kFlip) ? -1 : 1;
+    signs[k] =
+        static_cast<std::int8_t>(static_cast<std::int32_t>(sp.edge) >> 31 | 1);  // (-1: kFlip)
     ++k;
     cur = sp.head;
     if (cur == lo) {
@@ -382,7 +383,7 @@ struct Slicer::Impl::FaceHand {
   bool bad = false;
 };
 
-template <bool Buckets, std::uint32_t Stride>
+template <bool Buckets, bool RoomChecked, std::uint32_t Stride>
 std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
   const std::uint32_t* const faces = h.faces;
@@ -413,7 +414,7 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
       j0 = stride ? x * stride : up_offsets[x];
       j1 = stride ? j0 + stride : up_offsets[x + 1];
     }
-    if constexpr (Buckets) {
+    if constexpr (Buckets && RoomChecked) {
       // Room for the rows of the cells this face is the first cut face of (counted before
       // anything is written, so that a face that does not fit is done whole after the growth).
       std::size_t need = 0;
@@ -493,9 +494,11 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
   if (face_edge_.size() < nf) face_edge_.resize(nf, no_index);
   const bool tets = !m.tet_vertices_.empty();
-  if (!tets && face_edge_stale_) {
-    // A tetrahedral model's slice left its cut faces' section edges: only a table reads them
-    // (at cut faces only), the fixed-width chains read every face's.
+  // Only the fixed-width chains (cells of up to four faces, not a table's) read every face's
+  // section edge, uncut ones included: for them face_edge_ is kept at no_index between slices.
+  // A table reads only cut faces' and bucket cells none: those slices leave it stale.
+  const bool fixed_chains = !tets && m.small_cells_;
+  if (fixed_chains && face_edge_stale_) {
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
     face_edge_stale_ = false;
   }
@@ -595,9 +598,25 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
                cell_steps_.size()};
     h.bad = odd_count != 0;
     const bool two = face_up.stride == 2;
+    // When the buckets have room for every cell's whole row, no face can overflow them: the
+    // pass runs without counting each face's room first. They are given that room when the
+    // model's rows are within a small multiple of this slice's (cut face, cell) pairs (a plane
+    // meets a good share of a small model's cells), not for large models cut in a small part.
+    const std::size_t all_rows = C.ids.size();
+    if (buckets && cell_steps_.size() < all_rows &&
+        all_rows <= 4 * std::size_t{nse} * (two ? 2 : std::max<std::uint32_t>(face_up.stride, 2))) {
+      cell_steps_.resize(all_rows);
+      h.bucket = cell_steps_.data();
+      h.room = cell_steps_.size();
+    }
+    const bool roomy = h.room >= all_rows;
     for (std::uint32_t se = 0;;) {
-      se = buckets ? (two ? hand_faces<true, 2>(h, se) : hand_faces<true, 0>(h, se))
-                   : (two ? hand_faces<false, 2>(h, se) : hand_faces<false, 0>(h, se));
+      if (!buckets)
+        se = two ? hand_faces<false, false, 2>(h, se) : hand_faces<false, false, 0>(h, se);
+      else if (roomy)
+        se = two ? hand_faces<true, false, 2>(h, se) : hand_faces<true, false, 0>(h, se);
+      else
+        se = two ? hand_faces<true, true, 2>(h, se) : hand_faces<true, true, 0>(h, se);
       if (se == nse) break;
       // (rare: the buckets keep their storage between slices)
       cell_steps_.resize(std::max(2 * cell_steps_.size(), h.want + 64));
@@ -704,7 +723,7 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     polys.ids.resize(entries);
     polys.signs.resize(entries);
   }
-  if (tets)
+  if (!fixed_chains)
     face_edge_stale_ = true;
   else
     for (const std::uint32_t* it = faces; it != faces_end; ++it) face_edge_[*it] = no_index;

@@ -348,6 +348,10 @@ void SliceModel::Compiled::build_cofaces() {
   unit_signs_ = true;
   for (int k = 2; k <= std::min(top_, 3); ++k)
     for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
+  small_cells_ = false;
+  if (top_ >= 3)
+    for (std::size_t x = 0; x < ranks_[3].count && !small_cells_; ++x)
+      small_cells_ = ranks_[3].offsets[x + 1] - ranks_[3].offsets[x] <= 4;
 }
 
 void SliceModel::Compiled::build_tet_tables() {

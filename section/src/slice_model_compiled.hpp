@@ -61,6 +61,9 @@ struct SliceModel::Compiled {
   Up up(int k) const { return {up_offsets_[k].data(), up_ids_[k].data(), up_stride_[k]}; }
   static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
   bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
+  // Some cell (rank 3) has at most four faces: the R^4 kernel chains such a cell at a fixed
+  // width, reading every one of its faces' section edges (uncut faces' too).
+  bool small_cells_ = false;
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
