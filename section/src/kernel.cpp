@@ -162,7 +162,9 @@ inline void write_edge_rows(std::uint32_t nse, std::uint32_t* off, std::int8_t* 
 // Everything in locals: the byte stores of the counts would otherwise make the compiler reload
 // every pointer kept in memory. Stride: the number of faces above every edge when it is known
 // at compile time (the inner loop unrolls), else 0 (then `stride`, or the offsets, say).
-template <std::uint32_t Stride, class CrossingTest>
+// Capped: a face may have more than three edges, so its count is held at 3 (a count of 4 would
+// read as an even, or as no, mark); else no face is handed more than three crossings.
+template <std::uint32_t Stride, bool Capped, class CrossingTest>
 bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::uint32_t* edge_ends,
                     const Side* side, const double* s, const CrossingTest& near_general,
                     const std::uint32_t* edge_model, VertexSource* vs, std::uint32_t* vertex_edge,
@@ -181,6 +183,7 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
     // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
     // cut that times the edge's sign there (the coface's top bit: -1).
     const std::uint32_t tail_above = side[a] == Side::Negative ? 0u : kFlip;
+    const std::uint32_t entry = v | tail_above;  // (v < kFlip)
     std::uint32_t j0, j1;
     if constexpr (Stride > 0) {
       j0 = e * Stride, j1 = j0 + Stride;
@@ -192,8 +195,12 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
       const std::uint32_t up = up_ids[j];
       const std::uint32_t f = up & kIndex;
       const std::uint32_t k = face_count[f];
-      face_ends[2 * f + (k & 1u)] = v | ((up & kFlip) ^ tail_above);  // (k >= 2: fails below)
-      face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+      // (2 f is 2 up in 32 bits: the sign bit shifts out; k >= 2: fails below)
+      face_ends[(up << 1) + (k & 1u)] = entry ^ (up & kFlip);
+      if constexpr (Capped)
+        face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+      else
+        face_count[f] = static_cast<std::uint8_t>(k + 1);
     }
     pairs += j1 - j0;
   }
@@ -554,9 +561,13 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   std::uint32_t cut_faces_bound = 0;
   // (three faces above every edge: the cells' faces are polygons of a simple polytope's
   // 3-skeleton, such as the tesseract's, the 24-cell's, the 120-cell's; five: the 600-cell's)
-  const auto hand = edge_up.stride == 3   ? hand_crossings<3, SliceModel::Compiled::CrossingTest>
-                    : edge_up.stride == 5 ? hand_crossings<5, SliceModel::Compiled::CrossingTest>
-                                          : hand_crossings<0, SliceModel::Compiled::CrossingTest>;
+  using Test = SliceModel::Compiled::CrossingTest;
+  const bool capped = !m.triangle_faces_;
+  const auto hand = edge_up.stride == 3
+                        ? (capped ? hand_crossings<3, true, Test> : hand_crossings<3, false, Test>)
+                    : edge_up.stride == 5
+                        ? (capped ? hand_crossings<5, true, Test> : hand_crossings<5, false, Test>)
+                        : (capped ? hand_crossings<0, true, Test> : hand_crossings<0, false, Test>);
   if (!hand(list, count, edge_ends, side, s, needs_general, edge_model, out.vertex_source.data(),
             section_edge_.data(), edge_up.offsets, edge_up_ids, edge_up.stride, face_count,
             face_ends, &cut_faces_bound)) {

@@ -352,6 +352,10 @@ void SliceModel::Compiled::build_cofaces() {
   if (top_ >= 3)
     for (std::size_t x = 0; x < ranks_[3].count && !small_cells_; ++x)
       small_cells_ = ranks_[3].offsets[x + 1] - ranks_[3].offsets[x] <= 4;
+  triangle_faces_ = top_ >= 2;
+  if (top_ >= 2)
+    for (std::size_t x = 0; x < ranks_[2].count && triangle_faces_; ++x)
+      triangle_faces_ = ranks_[2].offsets[x + 1] - ranks_[2].offsets[x] <= 3;
 }
 
 void SliceModel::Compiled::build_tet_tables() {

@@ -64,6 +64,9 @@ struct SliceModel::Compiled {
   // Some cell (rank 3) has at most four faces: the R^4 kernel chains such a cell at a fixed
   // width, reading every one of its faces' section edges (uncut faces' too).
   bool small_cells_ = false;
+  // Every face (rank 2) has at most three edges: the R^4 kernel hands a face at most three
+  // crossings, so it counts them without a cap.
+  bool triangle_faces_ = false;
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
