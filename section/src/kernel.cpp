@@ -287,14 +287,9 @@ inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* t
   };
   const std::uint32_t pattern = (below(0) | below(1) | below(2) | below(3)) ^ 15u;
   const std::uint32_t code = tet_cases[pattern];
-  for (std::uint32_t k = 0; k < 4; ++k) {
-    const std::uint32_t entry = code >> (3 + 3 * k);
-    ids[k] = face_edge[cell_faces[entry & 3u]];
-  }
-  // The four signs (bit 2 of each entry: -1) as four bytes at once.
-  const std::uint32_t minus =
-      ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
-  std::memcpy(signs, &kSignBytes[minus], 4);
+  for (std::uint32_t k = 0; k < 4; ++k) ids[k] = face_edge[cell_faces[(code >> (3 + 2 * k)) & 3u]];
+  // The four signs (bits 11-14: -1) as four bytes at once.
+  std::memcpy(signs, &kSignBytes[(code >> 11) & 15u], 4);
   return code & 7u;
 }
 

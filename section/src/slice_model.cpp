@@ -443,8 +443,8 @@ void SliceModel::Compiled::build_tet_tables() {
       std::uint16_t code = static_cast<std::uint16_t>(ns);
       int cur = lo, k = 0;
       for (; k < ns; ++k) {
-        code =
-            static_cast<std::uint16_t>(code | ((pos[cur] | (fwd[cur] ? 0u : 4u)) << (3 + 3 * k)));
+        code = static_cast<std::uint16_t>(code | pos[cur] << (3 + 2 * k) |
+                                          (fwd[cur] ? 0u : 1u) << (11 + k));
         int next = -1;
         for (int j = 0; j < ns; ++j)
           if (tails[j] == heads[cur]) next = j;

@@ -83,9 +83,9 @@ struct SliceModel::Compiled {
   CrossingTest crossing_test(double near_parallel) const;
   // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
   // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
-  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
-  // face's position in the cell's boundary, bit 2 set when the face's section edge enters
-  // with -1). Empty otherwise.
+  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), bits 3 + 2 k and 4 + 2 k
+  // entry k's face (its position in the cell's boundary), bit 11 + k set when that face's
+  // section edge enters with -1 (the four signs one nibble, read at once). Empty otherwise.
   std::vector<std::uint32_t> tet_vertices_;
   std::vector<std::uint16_t> tet_cases_;
   void build_tet_tables();
