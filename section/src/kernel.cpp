@@ -355,6 +355,34 @@ inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step,
   }
   return false;
 }
+
+// Phase 3 for a model whose every cell has more than four faces (each chained from its bucket,
+// chain_bucket) when nothing above the polygons is written per polygon: the ncut listed cells'
+// polygons, offsets, sources and facets, in a loop of its own that keeps everything in
+// registers. Cell i is stamped first_stamp + i (the caller makes sure that does not wrap).
+// False when a cell is left to the generic gathering.
+template <class CellStepT, class LoopStepT>
+inline bool bucket_polygons(const std::uint32_t* visit, std::uint32_t ncut, const CellStepT* bucket,
+                            const std::uint32_t* start, const std::uint32_t* fill, LoopStepT* step,
+                            std::uint32_t first_stamp, const std::uint32_t* cell_model,
+                            std::uint32_t* poly_ids, std::int8_t* poly_signs,
+                            std::uint32_t* poly_off, std::uint32_t* src, std::uint32_t* facet,
+                            std::uint32_t* entries_out) {
+  std::uint32_t entries = 0;
+  for (std::uint32_t i = 0; i < ncut; ++i) {
+    const std::uint32_t x = visit[i];
+    std::uint32_t added = 0;
+    if (!chain_bucket(bucket + start[x], fill[x] - start[x], step, first_stamp + i,
+                      poly_ids + entries, poly_signs + entries, &added))
+      return false;
+    entries += added;
+    poly_off[i + 1] = entries;
+    src[i] = cell_model ? cell_model[x] : x;
+    facet[i] = x;
+  }
+  *entries_out = entries;
+  return true;
+}
 }  // namespace
 
 // Rank 2 of the kernel: a face handed two crossings of opposite coefficients gives the section
@@ -685,13 +713,23 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     const std::uint16_t* const tet_case = m.tet_cases_.data();
     std::uint32_t entries = 0;
     bool ok = true;
-    const bool tets_alone = tet_vertex && !(above && !m.single_solid_);
+    // Every polygon from one kind of cell and nothing written above it per polygon: a loop of
+    // its own for the kind (tables, or buckets), else the general loop below.
+    const bool per_poly_above = above && !m.single_solid_;
+    const bool tets_alone = tet_vertex && !per_poly_above;
+    const bool buckets_alone = !tet_vertex && !m.small_cells_ && !per_poly_above;
     if (tets_alone) {
       ok = tet_polygons(visit, ncut, tet_vertex, tet_case, side, cell_faces, face_edge, cell_model,
                         poly_ids, poly_signs, poly_off, src, facet, &entries);
       npoly = ok ? ncut : 0;
+    } else if (buckets_alone) {
+      if (stamp_ > 0xffffffffu - ncut) forget_stamps();  // (the stamps would wrap)
+      ok = bucket_polygons(visit, ncut, bucket, start, fill, step, stamp_ + 1, cell_model, poly_ids,
+                           poly_signs, poly_off, src, facet, &entries);
+      stamp_ += ncut;
+      npoly = ok ? ncut : 0;
     }
-    for (const std::uint32_t* it = visit; it != end && ok && !tets_alone; ++it) {
+    for (const std::uint32_t* it = visit; it != end && ok && !tets_alone && !buckets_alone; ++it) {
       const std::uint32_t x = *it;
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
