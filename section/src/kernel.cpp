@@ -146,7 +146,8 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* 
 
 // The implied rows of nse section edges: offsets 2 i, signs -1, +1 (four edges' signs a word).
 inline void write_edge_rows(std::uint32_t nse, std::uint32_t* off, std::int8_t* sg) {
-  for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
+  const std::size_t rows = std::size_t{nse} + 1;  // (a trip count that cannot wrap: vectorised)
+  for (std::size_t i = 0; i < rows; ++i) off[i] = static_cast<std::uint32_t>(2 * i);
   const std::int8_t pairs[8] = {-1, 1, -1, 1, -1, 1, -1, 1};
   std::uint64_t word;
   std::memcpy(&word, pairs, 8);
