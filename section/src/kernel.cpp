@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -361,10 +362,13 @@ inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step,
 // chain_bucket) when nothing above the polygons is written per polygon: the ncut listed cells'
 // polygons, offsets, sources and facets, in a loop of its own that keeps everything in
 // registers. Cell i is stamped first_stamp + i (the caller makes sure that does not wrap).
-// False when a cell is left to the generic gathering.
-template <class CellStepT, class LoopStepT>
+// InPlace: each cell's bucket is at its row (cell_row) and holds taken[x] steps (reset to 0
+// here), else it is from start[x] to fill[x]. False when a cell is left to the generic
+// gathering.
+template <bool InPlace, class CellStepT, class LoopStepT>
 inline bool bucket_polygons(const std::uint32_t* visit, std::uint32_t ncut, const CellStepT* bucket,
-                            const std::uint32_t* start, const std::uint32_t* fill, LoopStepT* step,
+                            const std::uint32_t* start, const std::uint32_t* fill,
+                            const std::uint32_t* cell_row, std::uint32_t* taken, LoopStepT* step,
                             std::uint32_t first_stamp, const std::uint32_t* cell_model,
                             std::uint32_t* poly_ids, std::int8_t* poly_signs,
                             std::uint32_t* poly_off, std::uint32_t* src, std::uint32_t* facet,
@@ -372,9 +376,15 @@ inline bool bucket_polygons(const std::uint32_t* visit, std::uint32_t ncut, cons
   std::uint32_t entries = 0;
   for (std::uint32_t i = 0; i < ncut; ++i) {
     const std::uint32_t x = visit[i];
-    std::uint32_t added = 0;
-    if (!chain_bucket(bucket + start[x], fill[x] - start[x], step, first_stamp + i,
-                      poly_ids + entries, poly_signs + entries, &added))
+    std::uint32_t added = 0, b, ns;
+    if constexpr (InPlace) {
+      b = cell_row[x], ns = taken[x];
+      taken[x] = 0;
+    } else {
+      b = start[x], ns = fill[x] - start[x];
+    }
+    if (!chain_bucket(bucket + b, ns, step, first_stamp + i, poly_ids + entries,
+                      poly_signs + entries, &added))
       return false;
     entries += added;
     poly_off[i + 1] = entries;
@@ -408,9 +418,10 @@ struct Slicer::Impl::FaceHand {
   const std::uint32_t* cell_row;
   CellStep* bucket;
   std::size_t room;
-  std::size_t placed = 0;   // steps placed in the buckets
-  std::size_t want = 0;     // (when a face did not fit) the steps it needs placed
-  std::uint32_t pairs = 0;  // (cut face, cell) pairs
+  std::uint32_t* taken = nullptr;  // (in place) per cell the steps in its bucket at its row
+  std::size_t placed = 0;          // steps placed in the buckets
+  std::size_t want = 0;            // (when a face did not fit) the steps it needs placed
+  std::uint32_t pairs = 0;         // (cut face, cell) pairs
   bool bad = false;
 };
 
@@ -433,6 +444,7 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   const std::uint32_t* const cell_row = h.cell_row;
   CellStep* const bucket = h.bucket;
   const std::size_t room = h.room;
+  std::uint32_t* const taken = h.taken;
   std::size_t placed = h.placed;
   std::uint32_t pairs = h.pairs;
   bool bad = h.bad;
@@ -472,11 +484,19 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
       const std::uint32_t up = up_ids[j];
       const std::uint32_t y = up & kIndex;
       if constexpr (Buckets) {
-        const bool first = cell_count[y] == 0;  // (selects, not branches)
-        const std::uint32_t at = first ? static_cast<std::uint32_t>(placed) : fill[y];
-        start[y] = first ? at : start[y];
-        placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
-        fill[y] = at + 1;
+        std::uint32_t at;
+        if constexpr (RoomChecked) {
+          const bool first = cell_count[y] == 0;  // (selects, not branches)
+          at = first ? static_cast<std::uint32_t>(placed) : fill[y];
+          start[y] = first ? at : start[y];
+          placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
+          fill[y] = at + 1;
+        } else {
+          // Room for every row: each cell's bucket is its own row's place.
+          const std::uint32_t k = taken[y];
+          taken[y] = k + 1;
+          at = cell_row[y] + k;
+        }
         // The step's sign is minus the face's sign in the cell: forward when that is -1.
         const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
         const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
@@ -544,11 +564,13 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   if (buckets && cell_fill_.size() < nc) {
     cell_fill_.resize(nc);
     cell_start_.resize(nc);
+    cell_taken_.resize(nc, 0);
   }
   auto stop = [this](KernelResult result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
+    std::fill(cell_taken_.begin(), cell_taken_.end(), 0u);
     face_edge_stale_ = false;
     return result;
   };
@@ -614,6 +636,7 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   edges.offsets.resize(std::size_t{nse} + 1);
   out.source[1].resize(nse);
   std::uint32_t cut_cells_bound = 0;  // (cut face, cell) pairs: the polygons' entries
+  bool roomy = false;                 // (the buckets at the cells' rows)
   {
     FaceHand h{faces,
                nse,
@@ -633,8 +656,9 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
                cell_steps_.size()};
     h.bad = odd_count != 0;
     const bool two = face_up.stride == 2;
-    // When the buckets have room for every cell's whole row, no face can overflow them: the
-    // pass runs without counting each face's room first. They are given that room when the
+    // When the buckets have room for every cell's whole row, each cell's bucket is at its row
+    // (no placing, no room to count per face; the cells' step counts, cell_taken_, are zero
+    // between slices: reset as each cell is chained). They are given that room when the
     // model's rows are within a small multiple of this slice's (cut face, cell) pairs (a plane
     // meets a good share of a small model's cells), not for large models cut in a small part.
     const std::size_t all_rows = C.ids.size();
@@ -644,7 +668,8 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
       h.bucket = cell_steps_.data();
       h.room = cell_steps_.size();
     }
-    const bool roomy = h.room >= all_rows;
+    roomy = buckets && h.room >= all_rows;
+    h.taken = cell_taken_.data();
     for (std::uint32_t se = 0;;) {
       if (!buckets)
         se = two ? hand_faces<false, false, 2>(h, se) : hand_faces<false, false, 0>(h, se);
@@ -725,8 +750,10 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
       npoly = ok ? ncut : 0;
     } else if (buckets_alone) {
       if (stamp_ > 0xffffffffu - ncut) forget_stamps();  // (the stamps would wrap)
-      ok = bucket_polygons(visit, ncut, bucket, start, fill, step, stamp_ + 1, cell_model, poly_ids,
-                           poly_signs, poly_off, src, facet, &entries);
+      const auto chain = roomy ? bucket_polygons<true, CellStep, LoopStep>
+                               : bucket_polygons<false, CellStep, LoopStep>;
+      ok = chain(visit, ncut, bucket, start, fill, cell_off, cell_taken_.data(), step, stamp_ + 1,
+                 cell_model, poly_ids, poly_signs, poly_off, src, facet, &entries);
       stamp_ += ncut;
       npoly = ok ? ncut : 0;
     }
@@ -734,6 +761,8 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
       const std::uint32_t x = *it;
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
+      // (every cut cell of a bucket model took steps, small ones too: read below, or not)
+      const std::uint32_t taken = roomy ? std::exchange(cell_taken_[x], 0u) : 0u;
       if (tet_vertex) {
         added = tet_polygon(tet_vertex + 4 * x, tet_case + 16 * x, side, cell_faces + b, face_edge,
                             poly_ids + entries, poly_signs + entries);
@@ -743,8 +772,10 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
-        ok = chain_bucket(bucket + start[x], fill[x] - start[x], step, stamp_, poly_ids + entries,
-                          poly_signs + entries, &added);
+        const std::uint32_t at = roomy ? b : start[x];
+        const std::uint32_t ns = roomy ? taken : fill[x] - start[x];
+        ok = chain_bucket(bucket + at, ns, step, stamp_, poly_ids + entries, poly_signs + entries,
+                          &added);
       }
       if (!ok) break;
       entries += added;

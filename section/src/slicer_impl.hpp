@@ -189,6 +189,9 @@ class Slicer::Impl {
   };
   std::vector<CellStep> cell_steps_;
   std::vector<std::uint32_t> cell_fill_, cell_start_;
+  // When cell_steps_ has room for every cell's row (small models), each cut cell's bucket is at
+  // its row instead, holding cell_taken_ steps (zero for every cell between slices).
+  std::vector<std::uint32_t> cell_taken_;
   // The kernel's pass over the cut faces (kernel.cpp): Stride is the number of cells above
   // every face when the model has one (2 in a closed manifold), 0 when it varies; RoomChecked:
   // the buckets may be too small (else they have room for every cell's row). Returns the
