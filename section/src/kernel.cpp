@@ -605,8 +605,8 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   out.vertex_source.resize(count);
   section_edge_.resize(count);
   std::uint32_t cut_faces_bound = 0;
-  // (three faces above every edge: the cells' faces are polygons of a simple polytope's
-  // 3-skeleton, such as the tesseract's, the 24-cell's, the 120-cell's; five: the 600-cell's)
+  // (three faces above every edge: three cells around each edge, as in the tesseract, the
+  // 24-cell and the 120-cell; five: the 600-cell)
   using Test = SliceModel::Compiled::CrossingTest;
   const bool capped = !m.triangle_faces_;
   const auto hand = edge_up.stride == 3
