@@ -803,9 +803,8 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     face_edge_stale_ = true;
   else
     for (const std::uint32_t* it = faces; it != faces_end; ++it) face_edge_[*it] = no_index;
-  out.source[2].resize(npoly);
-  facet_internal_.resize(npoly);
-  polys.offsets.resize(std::size_t{npoly} + 1);
+  // (every listed cell made its polygon, npoly == ncut: the polygons' offsets, sources and
+  // facets were sized right)
   kernel_count_ += nse + npoly;
   return cut_upper(m, pl, out, 4)
              ? KernelResult::Done
