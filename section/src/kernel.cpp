@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -125,11 +126,35 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* 
                                     std::uint32_t e0, std::uint32_t e1, std::uint32_t* list,
                                     std::uint32_t count) {
   const std::uint32_t* ends = edge_ends + 2 * std::size_t{e0};
-  for (std::uint32_t e = e0; e < e1; ++e, ends += 2) {
+  std::uint32_t e = e0;
+  // Four edges a round (the loop's own counting is then a quarter of the work per edge).
+  for (; e + 4 <= e1; e += 4, ends += 8) {
+    list[count] = e;
+    count += side[ends[0]] != side[ends[1]];
+    list[count] = e + 1;
+    count += side[ends[2]] != side[ends[3]];
+    list[count] = e + 2;
+    count += side[ends[4]] != side[ends[5]];
+    list[count] = e + 3;
+    count += side[ends[6]] != side[ends[7]];
+  }
+  for (; e < e1; ++e, ends += 2) {
     list[count] = e;
     count += side[ends[0]] != side[ends[1]];
   }
   return count;
+}
+
+// The implied rows of nse section edges: offsets 2 i, signs -1, +1 (four edges' signs a word).
+inline void write_edge_rows(std::uint32_t nse, std::uint32_t* off, std::int8_t* sg) {
+  const std::size_t rows = std::size_t{nse} + 1;  // (a trip count that cannot wrap: vectorised)
+  for (std::size_t i = 0; i < rows; ++i) off[i] = static_cast<std::uint32_t>(2 * i);
+  const std::int8_t pairs[8] = {-1, 1, -1, 1, -1, 1, -1, 1};
+  std::uint64_t word;
+  std::memcpy(&word, pairs, 8);
+  std::uint32_t i = 0;
+  for (; i + 4 <= nse; i += 4) std::memcpy(sg + 2 * i, &word, 8);
+  for (; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
 }
 
 // Rank 1 of the kernel: the crossing of each listed edge (its section vertex v, in list order),
@@ -137,8 +162,11 @@ inline std::uint32_t list_crossings(const std::uint32_t* edge_ends, const Side* 
 // faces' counts (face_count, up to 3) and their two crossings (face_ends). False when a
 // crossing needs the general path (near_general: near an end or nearly parallel to the plane).
 // Everything in locals: the byte stores of the counts would otherwise make the compiler reload
-// every pointer kept in memory.
-template <class CrossingTest>
+// every pointer kept in memory. Stride: the number of faces above every edge when it is known
+// at compile time (the inner loop unrolls), else 0 (then `stride`, or the offsets, say).
+// Capped: a face may have more than three edges, so its count is held at 3 (a count of 4 would
+// read as an even, or as no, mark); else no face is handed more than three crossings.
+template <std::uint32_t Stride, bool Capped, class CrossingTest>
 bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::uint32_t* edge_ends,
                     const Side* side, const double* s, const CrossingTest& near_general,
                     const std::uint32_t* edge_model, VertexSource* vs, std::uint32_t* vertex_edge,
@@ -157,14 +185,24 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
     // The crossing's coefficient in the edge's cut is +1 when the tail is below; in a face's
     // cut that times the edge's sign there (the coface's top bit: -1).
     const std::uint32_t tail_above = side[a] == Side::Negative ? 0u : kFlip;
-    const std::uint32_t j0 = stride ? e * stride : up_offsets[e];
-    const std::uint32_t j1 = stride ? j0 + stride : up_offsets[e + 1];
+    const std::uint32_t entry = v | tail_above;  // (v < kFlip)
+    std::uint32_t j0, j1;
+    if constexpr (Stride > 0) {
+      j0 = e * Stride, j1 = j0 + Stride;
+    } else {
+      j0 = stride ? e * stride : up_offsets[e];
+      j1 = stride ? j0 + stride : up_offsets[e + 1];
+    }
     for (std::uint32_t j = j0; j < j1; ++j) {
       const std::uint32_t up = up_ids[j];
       const std::uint32_t f = up & kIndex;
       const std::uint32_t k = face_count[f];
-      face_ends[2 * f + (k & 1u)] = v | ((up & kFlip) ^ tail_above);  // (k >= 2: fails below)
-      face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+      // (2 f is 2 up in 32 bits: the sign bit shifts out; k >= 2: fails below)
+      face_ends[(up << 1) + (k & 1u)] = entry ^ (up & kFlip);
+      if constexpr (Capped)
+        face_count[f] = static_cast<std::uint8_t>(k < 3 ? k + 1 : 3);
+      else
+        face_count[f] = static_cast<std::uint8_t>(k + 1);
     }
     pairs += j1 - j0;
   }
@@ -243,20 +281,44 @@ inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* t
                                  const SideT* side, const std::uint32_t* cell_faces,
                                  const std::uint32_t* face_edge, std::uint32_t* ids,
                                  std::int8_t* signs) {
-  const std::uint32_t pattern = static_cast<std::uint32_t>(side[tv[0]] == SideT::Positive) |
-                                static_cast<std::uint32_t>(side[tv[1]] == SideT::Positive) << 1 |
-                                static_cast<std::uint32_t>(side[tv[2]] == SideT::Positive) << 2 |
-                                static_cast<std::uint32_t>(side[tv[3]] == SideT::Positive) << 3;
+  // The kernel's sides are -1 or +1 (a vertex on the plane left the fast path): a side's sign
+  // bit is set below, so the four sign bits give the vertices below, the complement of the
+  // pattern.
+  const auto below = [&](int k) {
+    return static_cast<std::uint32_t>(static_cast<std::uint8_t>(side[tv[k]])) >> 7 << k;
+  };
+  const std::uint32_t pattern = (below(0) | below(1) | below(2) | below(3)) ^ 15u;
   const std::uint32_t code = tet_cases[pattern];
-  for (std::uint32_t k = 0; k < 4; ++k) {
-    const std::uint32_t entry = code >> (3 + 3 * k);
-    ids[k] = face_edge[cell_faces[entry & 3u]];
-  }
-  // The four signs (bit 2 of each entry: -1) as four bytes at once.
-  const std::uint32_t minus =
-      ((code >> 5) & 1u) | ((code >> 7) & 2u) | ((code >> 9) & 4u) | ((code >> 11) & 8u);
-  std::memcpy(signs, &kSignBytes[minus], 4);
+  for (std::uint32_t k = 0; k < 4; ++k) ids[k] = face_edge[cell_faces[(code >> (3 + 2 * k)) & 3u]];
+  // The four signs (bits 11-14: -1) as four bytes at once.
+  std::memcpy(signs, &kSignBytes[(code >> 11) & 15u], 4);
   return code & 7u;
+}
+
+// Phase 3 for a model of tetrahedra when nothing above the polygons is written per polygon: the
+// polygon of each of the ncut listed cells from its table (tet_polygon; a tetrahedron's four
+// faces are row 4 x of cell_faces), its offset, source and facet, in a loop of its own that
+// keeps everything in registers. False when a table leaves a cell to the generic gathering.
+inline bool tet_polygons(const std::uint32_t* visit, std::uint32_t ncut,
+                         const std::uint32_t* tet_vertex, const std::uint16_t* tet_case,
+                         const Side* side, const std::uint32_t* cell_faces,
+                         const std::uint32_t* face_edge, const std::uint32_t* cell_model,
+                         std::uint32_t* poly_ids, std::int8_t* poly_signs, std::uint32_t* poly_off,
+                         std::uint32_t* src, std::uint32_t* facet, std::uint32_t* entries_out) {
+  std::uint32_t entries = 0;
+  for (std::uint32_t i = 0; i < ncut; ++i) {
+    const std::uint32_t x = visit[i];
+    const std::uint32_t added = tet_polygon(
+        tet_vertex + 4 * std::size_t{x}, tet_case + 16 * std::size_t{x}, side,
+        cell_faces + 4 * std::size_t{x}, face_edge, poly_ids + entries, poly_signs + entries);
+    if (added == 7) return false;
+    entries += added;
+    poly_off[i + 1] = entries;
+    src[i] = cell_model ? cell_model[x] : x;
+    facet[i] = x;
+  }
+  *entries_out = entries;
+  return true;
 }
 
 // The polygon of a cut cell of more than four faces from the ns steps its cut faces left in its
@@ -267,7 +329,7 @@ inline std::uint32_t tet_polygon(const std::uint32_t* tv, const std::uint16_t* t
 template <class CellStepT, class LoopStepT>
 inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step, std::uint32_t st,
                          std::uint32_t* ids, std::int8_t* signs, std::uint32_t* added) {
-  constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
+  constexpr std::uint32_t kIndex = 0x7fffffffu;
   std::uint32_t lo = 0xffffffffu;
   bool pinch = false;
   for (std::uint32_t k = 0; k < ns; ++k) {
@@ -283,7 +345,8 @@ inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step,
     const LoopStepT sp = step[cur];
     if (sp.stamp != st) return false;  // the chain does not close
     ids[k] = sp.edge & kIndex;
-    signs[k] = (sp.edge & kFlip) ? -1 : 1;
+    signs[k] =
+        static_cast<std::int8_t>(static_cast<std::int32_t>(sp.edge) >> 31 | 1);  // (-1: kFlip)
     ++k;
     cur = sp.head;
     if (cur == lo) {
@@ -293,6 +356,43 @@ inline bool chain_bucket(const CellStepT* cs, std::uint32_t ns, LoopStepT* step,
     ok = k < ns;
   }
   return false;
+}
+
+// Phase 3 for a model whose every cell has more than four faces (each chained from its bucket,
+// chain_bucket) when nothing above the polygons is written per polygon: the ncut listed cells'
+// polygons, offsets, sources and facets, in a loop of its own that keeps everything in
+// registers. Cell i is stamped first_stamp + i (the caller makes sure that does not wrap).
+// InPlace: each cell's bucket is at its row (cell_row) and holds taken[x] steps (reset to 0
+// here), else it is from start[x] to fill[x]. False when a cell is left to the generic
+// gathering.
+template <bool InPlace, class CellStepT, class LoopStepT>
+inline bool bucket_polygons(const std::uint32_t* visit, std::uint32_t ncut, const CellStepT* bucket,
+                            const std::uint32_t* start, const std::uint32_t* fill,
+                            const std::uint32_t* cell_row, std::uint32_t* taken, LoopStepT* step,
+                            std::uint32_t first_stamp, const std::uint32_t* cell_model,
+                            std::uint32_t* poly_ids, std::int8_t* poly_signs,
+                            std::uint32_t* poly_off, std::uint32_t* src, std::uint32_t* facet,
+                            std::uint32_t* entries_out) {
+  std::uint32_t entries = 0;
+  for (std::uint32_t i = 0; i < ncut; ++i) {
+    const std::uint32_t x = visit[i];
+    std::uint32_t added = 0, b, ns;
+    if constexpr (InPlace) {
+      b = cell_row[x], ns = taken[x];
+      taken[x] = 0;
+    } else {
+      b = start[x], ns = fill[x] - start[x];
+    }
+    if (!chain_bucket(bucket + b, ns, step, first_stamp + i, poly_ids + entries,
+                      poly_signs + entries, &added))
+      return false;
+    entries += added;
+    poly_off[i + 1] = entries;
+    src[i] = cell_model ? cell_model[x] : x;
+    facet[i] = x;
+  }
+  *entries_out = entries;
+  return true;
 }
 }  // namespace
 
@@ -318,13 +418,14 @@ struct Slicer::Impl::FaceHand {
   const std::uint32_t* cell_row;
   CellStep* bucket;
   std::size_t room;
-  std::size_t placed = 0;   // steps placed in the buckets
-  std::size_t want = 0;     // (when a face did not fit) the steps it needs placed
-  std::uint32_t pairs = 0;  // (cut face, cell) pairs
+  std::uint32_t* taken = nullptr;  // (in place) per cell the steps in its bucket at its row
+  std::size_t placed = 0;          // steps placed in the buckets
+  std::size_t want = 0;            // (when a face did not fit) the steps it needs placed
+  std::uint32_t pairs = 0;         // (cut face, cell) pairs
   bool bad = false;
 };
 
-template <bool Buckets, std::uint32_t Stride>
+template <bool Buckets, bool RoomChecked, std::uint32_t Stride>
 std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   constexpr std::uint32_t kFlip = 0x80000000u, kIndex = 0x7fffffffu;
   const std::uint32_t* const faces = h.faces;
@@ -343,6 +444,7 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   const std::uint32_t* const cell_row = h.cell_row;
   CellStep* const bucket = h.bucket;
   const std::size_t room = h.room;
+  std::uint32_t* const taken = h.taken;
   std::size_t placed = h.placed;
   std::uint32_t pairs = h.pairs;
   bool bad = h.bad;
@@ -355,7 +457,7 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
       j0 = stride ? x * stride : up_offsets[x];
       j1 = stride ? j0 + stride : up_offsets[x + 1];
     }
-    if constexpr (Buckets) {
+    if constexpr (Buckets && RoomChecked) {
       // Room for the rows of the cells this face is the first cut face of (counted before
       // anything is written, so that a face that does not fit is done whole after the growth).
       std::size_t need = 0;
@@ -382,11 +484,19 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
       const std::uint32_t up = up_ids[j];
       const std::uint32_t y = up & kIndex;
       if constexpr (Buckets) {
-        const bool first = cell_count[y] == 0;  // (selects, not branches)
-        const std::uint32_t at = first ? static_cast<std::uint32_t>(placed) : fill[y];
-        start[y] = first ? at : start[y];
-        placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
-        fill[y] = at + 1;
+        std::uint32_t at;
+        if constexpr (RoomChecked) {
+          const bool first = cell_count[y] == 0;  // (selects, not branches)
+          at = first ? static_cast<std::uint32_t>(placed) : fill[y];
+          start[y] = first ? at : start[y];
+          placed += first ? cell_row[y + 1] - cell_row[y] : 0u;
+          fill[y] = at + 1;
+        } else {
+          // Room for every row: each cell's bucket is its own row's place.
+          const std::uint32_t k = taken[y];
+          taken[y] = k + 1;
+          at = cell_row[y] + k;
+        }
         // The step's sign is minus the face's sign in the cell: forward when that is -1.
         const std::uint32_t fwd = static_cast<std::uint32_t>(static_cast<std::int32_t>(up) >> 31);
         const std::uint32_t t = hd ^ ((ta ^ hd) & fwd);
@@ -435,9 +545,11 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   if (face_ends_.size() < 2 * nf) face_ends_.resize(2 * nf);
   if (face_edge_.size() < nf) face_edge_.resize(nf, no_index);
   const bool tets = !m.tet_vertices_.empty();
-  if (!tets && face_edge_stale_) {
-    // A tetrahedral model's slice left its cut faces' section edges: only a table reads them
-    // (at cut faces only), the fixed-width chains read every face's.
+  // Only the fixed-width chains (cells of up to four faces, not a table's) read every face's
+  // section edge, uncut ones included: for them face_edge_ is kept at no_index between slices.
+  // A table reads only cut faces' and bucket cells none: those slices leave it stale.
+  const bool fixed_chains = !tets && m.small_cells_;
+  if (fixed_chains && face_edge_stale_) {
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
     face_edge_stale_ = false;
   }
@@ -452,11 +564,13 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   if (buckets && cell_fill_.size() < nc) {
     cell_fill_.resize(nc);
     cell_start_.resize(nc);
+    cell_taken_.resize(nc, 0);
   }
   auto stop = [this](KernelResult result) {
     std::fill(face_mark_.begin(), face_mark_.end(), 0);
     std::fill(cell_mark_.begin(), cell_mark_.end(), 0);
     std::fill(face_edge_.begin(), face_edge_.end(), no_index);
+    std::fill(cell_taken_.begin(), cell_taken_.end(), 0u);
     face_edge_stale_ = false;
     return result;
   };
@@ -491,9 +605,18 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   out.vertex_source.resize(count);
   section_edge_.resize(count);
   std::uint32_t cut_faces_bound = 0;
-  if (!hand_crossings(list, count, edge_ends, side, s, needs_general, edge_model,
-                      out.vertex_source.data(), section_edge_.data(), edge_up.offsets, edge_up_ids,
-                      edge_up.stride, face_count, face_ends, &cut_faces_bound)) {
+  // (three faces above every edge: three cells around each edge, as in the tesseract, the
+  // 24-cell and the 120-cell; five: the 600-cell)
+  using Test = SliceModel::Compiled::CrossingTest;
+  const bool capped = !m.triangle_faces_;
+  const auto hand = edge_up.stride == 3
+                        ? (capped ? hand_crossings<3, true, Test> : hand_crossings<3, false, Test>)
+                    : edge_up.stride == 5
+                        ? (capped ? hand_crossings<5, true, Test> : hand_crossings<5, false, Test>)
+                        : (capped ? hand_crossings<0, true, Test> : hand_crossings<0, false, Test>);
+  if (!hand(list, count, edge_ends, side, s, needs_general, edge_model, out.vertex_source.data(),
+            section_edge_.data(), edge_up.offsets, edge_up_ids, edge_up.stride, face_count,
+            face_ends, &cut_faces_bound)) {
     reason_ = FallbackReason::Weld;
     return stop(KernelResult::General);
   }
@@ -513,6 +636,7 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
   edges.offsets.resize(std::size_t{nse} + 1);
   out.source[1].resize(nse);
   std::uint32_t cut_cells_bound = 0;  // (cut face, cell) pairs: the polygons' entries
+  bool roomy = false;                 // (the buckets at the cells' rows)
   {
     FaceHand h{faces,
                nse,
@@ -532,9 +656,27 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
                cell_steps_.size()};
     h.bad = odd_count != 0;
     const bool two = face_up.stride == 2;
+    // When the buckets have room for every cell's whole row, each cell's bucket is at its row
+    // (no placing, no room to count per face; the cells' step counts, cell_taken_, are zero
+    // between slices: reset as each cell is chained). They are given that room when the
+    // model's rows are within a small multiple of this slice's (cut face, cell) pairs (a plane
+    // meets a good share of a small model's cells), not for large models cut in a small part.
+    const std::size_t all_rows = C.ids.size();
+    if (buckets && cell_steps_.size() < all_rows &&
+        all_rows <= 4 * std::size_t{nse} * (two ? 2 : std::max<std::uint32_t>(face_up.stride, 2))) {
+      cell_steps_.resize(all_rows);
+      h.bucket = cell_steps_.data();
+      h.room = cell_steps_.size();
+    }
+    roomy = buckets && h.room >= all_rows;
+    h.taken = cell_taken_.data();
     for (std::uint32_t se = 0;;) {
-      se = buckets ? (two ? hand_faces<true, 2>(h, se) : hand_faces<true, 0>(h, se))
-                   : (two ? hand_faces<false, 2>(h, se) : hand_faces<false, 0>(h, se));
+      if (!buckets)
+        se = two ? hand_faces<false, false, 2>(h, se) : hand_faces<false, false, 0>(h, se);
+      else if (roomy)
+        se = two ? hand_faces<true, false, 2>(h, se) : hand_faces<true, false, 0>(h, se);
+      else
+        se = two ? hand_faces<true, true, 2>(h, se) : hand_faces<true, true, 0>(h, se);
       if (se == nse) break;
       // (rare: the buckets keep their storage between slices)
       cell_steps_.resize(std::max(2 * cell_steps_.size(), h.want + 64));
@@ -544,12 +686,7 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     cut_cells_bound = h.pairs;
     if (h.bad) return stop(KernelResult::Generic);
   }
-  {
-    std::uint32_t* const off = edges.offsets.data();
-    std::int8_t* const sg = edges.signs.data();
-    for (std::uint32_t i = 0; i <= nse; ++i) off[i] = 2 * i;
-    for (std::uint32_t i = 0; i < nse; ++i) sg[2 * i] = -1, sg[2 * i + 1] = 1;
-  }
+  write_edge_rows(nse, edges.offsets.data(), edges.signs.data());
   // Phase 3, list_marks + tet_polygon / chain_fixed / chain_bucket (rank 3, the facets): a cut cell
   // reads its faces' section edges (one step each, its direction the opposite of the face's sign in
   // the cell); one loop through every step, followed from the smallest tail, is the polygon the
@@ -602,10 +739,30 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     const std::uint16_t* const tet_case = m.tet_cases_.data();
     std::uint32_t entries = 0;
     bool ok = true;
-    for (const std::uint32_t* it = visit; it != end && ok; ++it) {
+    // Every polygon from one kind of cell and nothing written above it per polygon: a loop of
+    // its own for the kind (tables, or buckets), else the general loop below.
+    const bool per_poly_above = above && !m.single_solid_;
+    const bool tets_alone = tet_vertex && !per_poly_above;
+    const bool buckets_alone = !tet_vertex && !m.small_cells_ && !per_poly_above;
+    if (tets_alone) {
+      ok = tet_polygons(visit, ncut, tet_vertex, tet_case, side, cell_faces, face_edge, cell_model,
+                        poly_ids, poly_signs, poly_off, src, facet, &entries);
+      npoly = ok ? ncut : 0;
+    } else if (buckets_alone) {
+      if (stamp_ > 0xffffffffu - ncut) forget_stamps();  // (the stamps would wrap)
+      const auto chain = roomy ? bucket_polygons<true, CellStep, LoopStep>
+                               : bucket_polygons<false, CellStep, LoopStep>;
+      ok = chain(visit, ncut, bucket, start, fill, cell_off, cell_taken_.data(), step, stamp_ + 1,
+                 cell_model, poly_ids, poly_signs, poly_off, src, facet, &entries);
+      stamp_ += ncut;
+      npoly = ok ? ncut : 0;
+    }
+    for (const std::uint32_t* it = visit; it != end && ok && !tets_alone && !buckets_alone; ++it) {
       const std::uint32_t x = *it;
       const std::uint32_t b = cell_off[x], nfaces = cell_off[x + 1] - b;
       std::uint32_t added = 0;
+      // (every cut cell of a bucket model took steps, small ones too: read below, or not)
+      const std::uint32_t taken = roomy ? std::exchange(cell_taken_[x], 0u) : 0u;
       if (tet_vertex) {
         added = tet_polygon(tet_vertex + 4 * x, tet_case + 16 * x, side, cell_faces + b, face_edge,
                             poly_ids + entries, poly_signs + entries);
@@ -615,8 +772,10 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
                             poly_ids + entries, poly_signs + entries, &added);
       } else {
         if (++stamp_ == 0) forget_stamps();  // wrapped
-        ok = chain_bucket(bucket + start[x], fill[x] - start[x], step, stamp_, poly_ids + entries,
-                          poly_signs + entries, &added);
+        const std::uint32_t at = roomy ? b : start[x];
+        const std::uint32_t ns = roomy ? taken : fill[x] - start[x];
+        ok = chain_bucket(bucket + at, ns, step, stamp_, poly_ids + entries, poly_signs + entries,
+                          &added);
       }
       if (!ok) break;
       entries += added;
@@ -640,13 +799,12 @@ Slicer::Impl::KernelResult Slicer::Impl::kernel_slice(const SliceModel::Compiled
     polys.ids.resize(entries);
     polys.signs.resize(entries);
   }
-  if (tets)
+  if (!fixed_chains)
     face_edge_stale_ = true;
   else
     for (const std::uint32_t* it = faces; it != faces_end; ++it) face_edge_[*it] = no_index;
-  out.source[2].resize(npoly);
-  facet_internal_.resize(npoly);
-  polys.offsets.resize(std::size_t{npoly} + 1);
+  // (every listed cell made its polygon, npoly == ncut: the polygons' offsets, sources and
+  // facets were sized right)
   kernel_count_ += nse + npoly;
   return cut_upper(m, pl, out, 4)
              ? KernelResult::Done

@@ -348,6 +348,14 @@ void SliceModel::Compiled::build_cofaces() {
   unit_signs_ = true;
   for (int k = 2; k <= std::min(top_, 3); ++k)
     for (auto sg : ranks_[k].signs) unit_signs_ = unit_signs_ && (sg == 1 || sg == -1);
+  small_cells_ = false;
+  if (top_ >= 3)
+    for (std::size_t x = 0; x < ranks_[3].count && !small_cells_; ++x)
+      small_cells_ = ranks_[3].offsets[x + 1] - ranks_[3].offsets[x] <= 4;
+  triangle_faces_ = top_ >= 2;
+  if (top_ >= 2)
+    for (std::size_t x = 0; x < ranks_[2].count && triangle_faces_; ++x)
+      triangle_faces_ = ranks_[2].offsets[x + 1] - ranks_[2].offsets[x] <= 3;
 }
 
 void SliceModel::Compiled::build_tet_tables() {
@@ -435,8 +443,8 @@ void SliceModel::Compiled::build_tet_tables() {
       std::uint16_t code = static_cast<std::uint16_t>(ns);
       int cur = lo, k = 0;
       for (; k < ns; ++k) {
-        code =
-            static_cast<std::uint16_t>(code | ((pos[cur] | (fwd[cur] ? 0u : 4u)) << (3 + 3 * k)));
+        code = static_cast<std::uint16_t>(code | pos[cur] << (3 + 2 * k) |
+                                          (fwd[cur] ? 0u : 1u) << (11 + k));
         int next = -1;
         for (int j = 0; j < ns; ++j)
           if (tails[j] == heads[cur]) next = j;

@@ -61,6 +61,12 @@ struct SliceModel::Compiled {
   Up up(int k) const { return {up_offsets_[k].data(), up_ids_[k].data(), up_stride_[k]}; }
   static constexpr std::uint32_t kUpIndex = 0x7fffffffu, kUpNegative = 0x80000000u;
   bool unit_signs_ = true;  // every sign of ranks 2 and 3 is +-1
+  // Some cell (rank 3) has at most four faces: the R^4 kernel chains such a cell at a fixed
+  // width, reading every one of its faces' section edges (uncut faces' too).
+  bool small_cells_ = false;
+  // Every face (rank 2) has at most three edges: the R^4 kernel hands a face at most three
+  // crossings, so it counts them without a cap.
+  bool triangle_faces_ = false;
   void build_cofaces();
   // One solid (rank dim_) whose boundary holds every facet exactly once: its cut is known.
   bool single_solid_ = false;
@@ -77,9 +83,9 @@ struct SliceModel::Compiled {
   CrossingTest crossing_test(double near_parallel) const;
   // R^4 models whose every cell is a tetrahedron: per cell its four vertices (ascending) and,
   // per pattern of their sides (bit k: vertex k above), its polygon as the kernel writes it:
-  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), then per entry 3 bits (the
-  // face's position in the cell's boundary, bit 2 set when the face's section edge enters
-  // with -1). Empty otherwise.
+  // bits 0-2 the length (3 or 4; 7: left to the generic gathering), bits 3 + 2 k and 4 + 2 k
+  // entry k's face (its position in the cell's boundary), bit 11 + k set when that face's
+  // section edge enters with -1 (the four signs one nibble, read at once). Empty otherwise.
   std::vector<std::uint32_t> tet_vertices_;
   std::vector<std::uint16_t> tet_cases_;
   void build_tet_tables();

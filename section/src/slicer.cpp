@@ -751,50 +751,60 @@ bool geometry_pass(const double* P, const std::uint32_t* edge_ids, const double*
 #if defined(__SSE2__)
   if constexpr (N == 4) {
     // The same operations, each lane its own term in the same order (so the same bits): rows
-    // 0 and 1 of M and Nm two at a time, the point's coordinates two at a time.
-    __m128d m01[4], n01[4];
-    for (int j = 0; j < 4; ++j)
-      m01[j] = _mm_set_pd(M[4 + j], M[j]), n01[j] = _mm_set_pd(Nm[4 + j], Nm[j]);
-    const __m128d c01 = _mm_loadu_pd(c);
-    const __m128d one = _mm_set1_pd(1.0);
-    for (std::size_t i = 0; i < section_edge.size(); ++i) {
-      const std::uint32_t e = section_edge[i];
-      const double* pa = P + edge_ids[2 * e] * 4;
-      const double* pb = P + edge_ids[2 * e + 1] * 4;
-      const __m128d t = _mm_set1_pd(source[i].t);
-      const __m128d u = _mm_sub_pd(one, t);
-      const __m128d x01 =
-          _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa)), _mm_mul_pd(t, _mm_loadu_pd(pb)));
-      const __m128d x23 =
-          _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa + 2)), _mm_mul_pd(t, _mm_loadu_pd(pb + 2)));
-      const __m128d xj[4] = {_mm_unpacklo_pd(x01, x01), _mm_unpackhi_pd(x01, x01),
-                             _mm_unpacklo_pd(x23, x23), _mm_unpackhi_pd(x23, x23)};
-      __m128d sum = c01;
-      for (int j = 0; j < 4; ++j) sum = _mm_add_pd(sum, _mm_mul_pd(m01[j], xj[j]));
-      __m128d s2 = _mm_load_sd(c + 2);
-      for (int j = 0; j < 4; ++j) s2 = _mm_add_sd(s2, _mm_mul_sd(_mm_load_sd(M + 8 + j), xj[j]));
-      _mm_storeu_pd(coords + i * 3, sum);
-      _mm_store_sd(coords + i * 3 + 2, s2);
+    // 0 and 1 of M and Nm two at a time, the point's coordinates two at a time. Every matrix
+    // entry is loaded into a register once, before the loops (the output stores could alias
+    // the matrices, so the compiler would otherwise reload them per vertex and per facet).
+    {
+      __m128d m01[4], m2[4];
+      for (int j = 0; j < 4; ++j)
+        m01[j] = _mm_set_pd(M[4 + j], M[j]), m2[j] = _mm_load_sd(M + 8 + j);
+      const __m128d c01 = _mm_loadu_pd(c), c2 = _mm_load_sd(c + 2);
+      const __m128d one = _mm_set1_pd(1.0);
+      const std::uint32_t* const se = section_edge.data();
+      const std::size_t nv = section_edge.size();
+      for (std::size_t i = 0; i < nv; ++i) {
+        const std::uint32_t e = se[i];
+        const double* pa = P + edge_ids[2 * e] * 4;
+        const double* pb = P + edge_ids[2 * e + 1] * 4;
+        const __m128d t = _mm_set1_pd(source[i].t);
+        const __m128d u = _mm_sub_pd(one, t);
+        const __m128d x01 =
+            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa)), _mm_mul_pd(t, _mm_loadu_pd(pb)));
+        const __m128d x23 =
+            _mm_add_pd(_mm_mul_pd(u, _mm_loadu_pd(pa + 2)), _mm_mul_pd(t, _mm_loadu_pd(pb + 2)));
+        const __m128d xj[4] = {_mm_unpacklo_pd(x01, x01), _mm_unpackhi_pd(x01, x01),
+                               _mm_unpacklo_pd(x23, x23), _mm_unpackhi_pd(x23, x23)};
+        __m128d sum = c01;
+        for (int j = 0; j < 4; ++j) sum = _mm_add_pd(sum, _mm_mul_pd(m01[j], xj[j]));
+        __m128d s2 = c2;
+        for (int j = 0; j < 4; ++j) s2 = _mm_add_sd(s2, _mm_mul_sd(m2[j], xj[j]));
+        _mm_storeu_pd(coords + i * 3, sum);
+        _mm_store_sd(coords + i * 3 + 2, s2);
+      }
     }
-    for (std::size_t f = 0; f < facet_internal.size(); ++f) {
-      const std::uint32_t x = facet_internal[f];
+    __m128d n01[4], n2[4];
+    for (int j = 0; j < 4; ++j)
+      n01[j] = _mm_set_pd(Nm[4 + j], Nm[j]), n2[j] = _mm_load_sd(Nm + 8 + j);
+    const std::uint32_t* const fi = facet_internal.data();
+    const std::size_t nfacets = facet_internal.size();
+    for (std::size_t f = 0; f < nfacets; ++f) {
+      const std::uint32_t x = fi[f];
       const double* nf = facet_normals + std::size_t{facet_id ? facet_id[x] : x} * 4;
       __m128d y01 = _mm_setzero_pd(), y2 = _mm_setzero_pd();
       for (int j = 0; j < 4; ++j) {
         const __m128d v = _mm_set1_pd(nf[j]);
         y01 = _mm_add_pd(y01, _mm_mul_pd(n01[j], v));
-        y2 = _mm_add_sd(y2, _mm_mul_sd(_mm_load_sd(Nm + 8 + j), v));
+        y2 = _mm_add_sd(y2, _mm_mul_sd(n2[j], v));
       }
-      double y[3];
-      _mm_storeu_pd(y, y01);
-      y[2] = _mm_cvtsd_f64(y2);
-      double len2 = 0.0;
-      for (int r = 0; r < 3; ++r) len2 += y[r] * y[r];
-      const double len = std::sqrt(len2);
+      // |y|^2 in registers, summed as the scalar form sums it: ((0 + y0^2) + y1^2) + y2^2
+      // (0 + y0^2 is y0^2, a square being +0 at least).
+      const __m128d sq = _mm_mul_pd(y01, y01);
+      const __m128d len2 = _mm_add_sd(_mm_add_sd(sq, _mm_unpackhi_pd(sq, sq)), _mm_mul_sd(y2, y2));
+      const double len = std::sqrt(_mm_cvtsd_f64(len2));
       if (len < tol::near_parallel_normal) return false;
       const __m128d l = _mm_set1_pd(len);
       _mm_storeu_pd(normals + f * 3, _mm_div_pd(y01, l));
-      normals[f * 3 + 2] = y[2] / len;
+      _mm_store_sd(normals + f * 3 + 2, _mm_div_sd(y2, l));
     }
     return true;
   }

@@ -175,7 +175,7 @@ class Slicer::Impl {
     std::uint32_t stamp, head, edge;  // edge: section edge | 0x80000000 when reversed
   };
   std::vector<std::uint32_t> face_ends_, face_edge_;
-  bool face_edge_stale_ = false;           // a tetrahedral model's slice left face_edge_ unreset
+  bool face_edge_stale_ = false;  // a slice without fixed-width chains left face_edge_ unreset
   std::vector<std::uint32_t> face_list_;   // the faces to cut
   std::vector<std::uint32_t> visit_list_;  // the cells to cut
   std::vector<std::uint32_t> crossing_ids_;
@@ -189,11 +189,15 @@ class Slicer::Impl {
   };
   std::vector<CellStep> cell_steps_;
   std::vector<std::uint32_t> cell_fill_, cell_start_;
+  // When cell_steps_ has room for every cell's row (small models), each cut cell's bucket is at
+  // its row instead, holding cell_taken_ steps (zero for every cell between slices).
+  std::vector<std::uint32_t> cell_taken_;
   // The kernel's pass over the cut faces (kernel.cpp): Stride is the number of cells above
-  // every face when the model has one (2 in a closed manifold), 0 when it varies. Returns the
+  // every face when the model has one (2 in a closed manifold), 0 when it varies; RoomChecked:
+  // the buckets may be too small (else they have room for every cell's row). Returns the
   // first face not done: nse, or a face whose cells' buckets did not fit (room to grow).
   struct FaceHand;
-  template <bool Buckets, std::uint32_t Stride>
+  template <bool Buckets, bool RoomChecked, std::uint32_t Stride>
   static std::uint32_t hand_faces(FaceHand& h, std::uint32_t se);
   // stamp_ wrapped: clears the stamps of vertex_stamp_, edge_stamp_ and loop_step_.
   void forget_stamps();
