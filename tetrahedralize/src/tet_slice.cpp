@@ -505,13 +505,11 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   for (std::size_t j = nslot; j-- > 0;) {
     const std::uint32_t e = slot_edge[j];
     const std::uint32_t o = owner[e];
-    const bool own = o == j;
-    // (a select the compiler makes a conditional move: the owner's number is read either way,
-    // from a slot already numbered, o > j, or from this one, o == j, when it is not used)
-    const std::uint32_t owners = corner_vid[o];
-    corner_vid[j] = own ? nvert : owners;
+    const std::uint32_t own = 0u - static_cast<std::uint32_t>(o == j);
+    const std::uint32_t r = (corner_vid[o] & ~own) | (nvert & own);
+    corner_vid[j] = r;
     crossing[nvert] = e;
-    nvert += own;
+    nvert -= own;  // + 1 where owned
   }
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t c = tet_cell[cut[i] >> 4];
