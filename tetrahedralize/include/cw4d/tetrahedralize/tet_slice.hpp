@@ -112,7 +112,7 @@ extern const std::array<TetCutCase, 16> kTetCutTable;
 /// What a TetSlicer computes besides the triangles, their positions, normals and sources.
 struct TetSliceOptions {
   /// Per-corner texture coordinates (TetSection::uvw, TetSliceMesh::uvw). Off, those arrays are
-  /// left empty and a slice costs about a fifth less (the interpolation and its 9 doubles per
+  /// left empty and a slice costs about 30 % less (the interpolation and its 9 doubles per
   /// triangle are most of the triangle pass); everything else is the same, bit for bit.
   bool uvw = true;
 };
