@@ -90,6 +90,19 @@ inline void write_byte_positions(const std::uint8_t* pos, std::uint32_t x, std::
 #endif
 }
 
+// The range [j0, j1) of element x's row of cofaces (up_ids): a fixed width known at compile time
+// (Stride > 0), else the model's fixed width (stride, when nonzero) or its offsets.
+template <std::uint32_t Stride>
+inline void up_row(std::uint32_t x, std::uint32_t stride, const std::uint32_t* up_offsets,
+                   std::uint32_t& j0, std::uint32_t& j1) {
+  if constexpr (Stride > 0) {
+    j0 = x * Stride, j1 = j0 + Stride;
+  } else {
+    j0 = stride ? x * stride : up_offsets[x];
+    j1 = stride ? j0 + stride : up_offsets[x + 1];
+  }
+}
+
 // Lists every x of [b, e) whose mark (a count of 0 to 3) is nonzero, in increasing x, zeroing
 // the marks eight at a time; returns the new end of the list, and sets odd's low bits when a
 // listed count is odd (1 or 3). Up to 8 entries past the new end may be written. A word of
@@ -187,12 +200,7 @@ bool hand_crossings(const std::uint32_t* list, std::uint32_t count, const std::u
     const std::uint32_t tail_above = side[a] == Side::Negative ? 0u : kFlip;
     const std::uint32_t entry = v | tail_above;  // (v < kFlip)
     std::uint32_t j0, j1;
-    if constexpr (Stride > 0) {
-      j0 = e * Stride, j1 = j0 + Stride;
-    } else {
-      j0 = stride ? e * stride : up_offsets[e];
-      j1 = stride ? j0 + stride : up_offsets[e + 1];
-    }
+    up_row<Stride>(e, stride, up_offsets, j0, j1);
     for (std::uint32_t j = j0; j < j1; ++j) {
       const std::uint32_t up = up_ids[j];
       const std::uint32_t f = up & kIndex;
@@ -451,12 +459,7 @@ std::uint32_t Slicer::Impl::hand_faces(FaceHand& h, std::uint32_t se) {
   for (; se < nse; ++se) {
     const std::uint32_t x = faces[se];
     std::uint32_t j0, j1;
-    if constexpr (Stride > 0) {
-      j0 = x * Stride, j1 = j0 + Stride;
-    } else {
-      j0 = stride ? x * stride : up_offsets[x];
-      j1 = stride ? j0 + stride : up_offsets[x + 1];
-    }
+    up_row<Stride>(x, stride, up_offsets, j0, j1);
     if constexpr (Buckets && RoomChecked) {
       // Room for the rows of the cells this face is the first cut face of (counted before
       // anything is written, so that a face that does not fit is done whole after the growth).
