@@ -255,10 +255,10 @@ void check_against_oracle(const Model& m, const Hyperplane& plane, const AffineT
   to_soup(s, expanded);
   REQUIRE(soup.triangle_count() == s.triangle_count());
   REQUIRE(expanded.triangle_count() == s.triangle_count());
-  REQUIRE(soup.tet == s.tet);
-  REQUIRE(soup.cell == s.cell);
-  REQUIRE(expanded.tet == s.tet);
-  REQUIRE(expanded.cell == s.cell);
+  REQUIRE(std::ranges::equal(soup.tet, s.tet));
+  REQUIRE(std::ranges::equal(soup.cell, s.cell));
+  REQUIRE(std::ranges::equal(expanded.tet, s.tet));
+  REQUIRE(std::ranges::equal(expanded.cell, s.cell));
   for (std::size_t c = 0; c < 3 * s.triangle_count(); ++c) {
     const TetCutPoint& src = s.vertex_source[s.triangles[c]];
     const auto col = static_cast<Eigen::Index>(c);

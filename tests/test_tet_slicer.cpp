@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
@@ -316,4 +317,103 @@ TEST_CASE("tetrahedralize_cells: convex cells as tetrahedralize, non-convex ones
   };
   CHECK_THROWS_AS(tetrahedralize_cells(l, {}, refuse), MeshingError);
   CHECK(calls == 1);
+}
+
+namespace {
+
+// Whether two arrays hold the same elements, byte for byte (sizes too).
+template <class A, class B>
+bool same_bytes(const A& a, const B& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+}
+
+bool same_bytes(const TetSliceMesh& a, const TetSliceMesh& b) {
+  return same_bytes(a.positions, b.positions) && same_bytes(a.vertex_source, b.vertex_source) &&
+         same_bytes(a.triangles, b.triangles) && same_bytes(a.normals, b.normals) &&
+         same_bytes(a.uvw, b.uvw) && same_bytes(a.tet, b.tet) && same_bytes(a.cell, b.cell);
+}
+
+// Fills every array's storage (up to its capacity) with bytes no slice writes, then empties it:
+// a slice that grows the array again within its storage must write every element it keeps.
+void poison(TetSliceMesh& m) {
+  auto fill = [](auto& v) {
+    v.resize(v.capacity());
+    if (!v.empty()) std::memset(static_cast<void*>(v.data()), 0xA5, v.size() * sizeof(v[0]));
+    v.clear();
+  };
+  fill(m.positions);
+  fill(m.vertex_source);
+  fill(m.triangles);
+  fill(m.normals);
+  fill(m.uvw);
+  fill(m.tet);
+  fill(m.cell);
+}
+
+}  // namespace
+
+TEST_CASE("tet slicer: a larger slice into a reused mesh is a fresh mesh's, bit for bit",
+          "[tet][slicer]") {
+  // TetSliceMesh's arrays are not zero-filled when they grow: every element the slice keeps is
+  // written by the slicer. Slices of alternating size into one mesh whose storage holds junk,
+  // each against a fresh slicer's slice into a fresh mesh.
+  for (const char* spec : {"tesseract", "120-cell", "600-cell", "duoprism:5,7"}) {
+    INFO(spec);
+    const TetMesh mesh = tetrahedralize(load_model(spec, default_catalogue()));
+    const AffineTransform xf = AffineTransform::rotation(4, 0, 2, 0.7);
+    auto planes = generic_planes(mesh, 24, 97u);
+    // A plane through a mesh vertex (the general loop, welded) and one that misses.
+    {
+      const Eigen::Vector4d n = Eigen::Vector4d(0.5, -1.0, 0.25, 0.75).normalized();
+      const Eigen::VectorXd x = xf.apply(Eigen::VectorXd(mesh.positions.col(3)));
+      planes.push_back(Hyperplane::from(Eigen::VectorXd(n), n.dot(Eigen::Vector4d(x))));
+      planes.push_back(Hyperplane::from(Eigen::VectorXd(Eigen::Vector4d::UnitX()), -1e6));
+    }
+    for (const bool uvw : {true, false}) {
+      INFO("uvw " << uvw);
+      const TetSliceOptions options{uvw};
+      // The planes by triangle count, then taken smallest, largest, next smallest, ...: every
+      // other slice is larger than the one before.
+      std::vector<std::pair<std::size_t, std::size_t>> by_size;
+      for (std::size_t i = 0; i < planes.size(); ++i) {
+        TetSlicer fresh(options);
+        TetSliceMesh m;
+        fresh.slice(mesh, planes[i], xf, m);
+        by_size.emplace_back(m.triangle_count(), i);
+      }
+      std::sort(by_size.begin(), by_size.end());
+      std::vector<std::size_t> order;
+      for (std::size_t lo = 0, hi = by_size.size(); lo < hi;) {
+        order.push_back(by_size[lo++].second);
+        if (lo < hi) order.push_back(by_size[--hi].second);
+      }
+      TetSlicer reused_slicer(options);
+      TetSliceMesh reused;
+      std::size_t larger = 0, checked = 0;
+      for (int round = 0; round < 2; ++round) {
+        for (const std::size_t i : order) {
+          const std::size_t before = reused.triangle_count();
+          poison(reused);
+          reused_slicer.slice(mesh, planes[i], xf, reused);
+          TetSlicer fresh(options);
+          TetSliceMesh expected;
+          fresh.slice(mesh, planes[i], xf, expected);
+          CHECK(same_bytes(reused, expected));
+          larger += reused.triangle_count() > before;
+          ++checked;
+        }
+      }
+      CHECK(checked == 2 * planes.size());
+      CHECK(larger >= planes.size() / 2);
+      // The other option on the same mesh: UVW appears or goes, the rest is the same.
+      reused_slicer.set_options(TetSliceOptions{!uvw});
+      poison(reused);
+      reused_slicer.slice(mesh, planes[order.back()], xf, reused);
+      TetSlicer fresh(TetSliceOptions{!uvw});
+      TetSliceMesh expected;
+      fresh.slice(mesh, planes[order.back()], xf, expected);
+      CHECK(same_bytes(reused, expected));
+    }
+  }
 }

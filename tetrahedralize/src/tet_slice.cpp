@@ -952,8 +952,8 @@ void weld_soup(const TetSection& soup, TetSliceMesh& out) {
   out.normals.resize(3 * T);
   const bool with_uvw = soup.uvw.cols() == static_cast<Eigen::Index>(3 * T);
   out.uvw.resize(with_uvw ? 9 * T : 0);
-  out.tet = soup.tet;
-  out.cell = soup.cell;
+  out.tet.assign(soup.tet.begin(), soup.tet.end());
+  out.cell.assign(soup.cell.begin(), soup.cell.end());
   for (std::size_t i = 0; i < T; ++i) {
     for (std::size_t k = 0; k < 3; ++k) {
       const std::size_t c = 3 * i + k;
@@ -1019,8 +1019,8 @@ void to_soup(const TetSliceMesh& slice, TetSection& out) {
   const auto nu = with_uvw ? n : Eigen::Index{0};
   if (out.uvw.cols() != nu) out.uvw.resize(3, nu);
   out.corners.resize(3 * T);
-  out.tet = slice.tet;
-  out.cell = slice.cell;
+  out.tet.assign(slice.tet.begin(), slice.tet.end());
+  out.cell.assign(slice.cell.begin(), slice.cell.end());
   if (T == 0) return;
   if (with_uvw) std::copy(slice.uvw.begin(), slice.uvw.end(), out.uvw.data());  // the same layout
   const std::uint32_t* tri = slice.triangles.data();

@@ -8,6 +8,9 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "cw4d/complex/transform.hpp"
@@ -50,6 +53,37 @@ struct TetSection {
   double area() const;
 };
 
+/// The allocator of TetSliceMesh's arrays: std::allocator, except that an element made without a
+/// value is default-initialised rather than value-initialised, so that `resize` to a larger size
+/// leaves the new doubles and integers unwritten (classes such as TetCutPoint still run their
+/// default constructor). The slicer writes every element of its output, and a slice larger than
+/// the one before then costs no zero fill of the arrays' new part. Code that resizes such an
+/// array itself must write the new elements before reading them.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  using value_type = T;
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// A TetSliceMesh array: a std::vector whose growth does not zero-fill (DefaultInitAllocator).
+/// Compare it with a std::vector through std::ranges::equal or its iterators.
+template <class T>
+using TetSliceArray = std::vector<T, DefaultInitAllocator<T>>;
+
 /// The same slice as an indexed triangle mesh: one vertex per mesh edge crossing the plane (and
 /// per mesh vertex on it), triangles as vertex ids. The crossing of an edge is computed once and
 /// shared by every tetrahedron around that edge, so neighbouring triangles are welded. Flat
@@ -61,20 +95,20 @@ struct TetSection {
 struct TetSliceMesh {
   HyperplaneFrame frame;
   /// 3V: vertex v at [3v, 3v + 3), section coordinates (frame.basis).
-  std::vector<double> positions;
+  TetSliceArray<double> positions;
   /// V: where each vertex comes from (a crossing of mesh edge (a, b), a < b, at t, or mesh
   /// vertex a on the plane, a == b). No two vertices have the same (a, b).
-  std::vector<TetCutPoint> vertex_source;
+  TetSliceArray<TetCutPoint> vertex_source;
   /// 3T: the vertex ids of triangle i at [3i, 3i + 3), counter-clockwise seen from outside.
-  std::vector<std::uint32_t> triangles;
+  TetSliceArray<std::uint32_t> triangles;
   /// 3T: the unit normal of triangle i (its cell's outward normal projected into the plane).
-  std::vector<double> normals;
+  TetSliceArray<double> normals;
   /// 9T: texture coordinates of corner k of triangle i at [9i + 3k, 9i + 3k + 3), interpolated
   /// along the cut edge of the source tetrahedron (corners of different cells differ); empty
   /// when the slicer's options leave UVW out.
-  std::vector<double> uvw;
-  std::vector<std::uint32_t> tet;   ///< T: source tetrahedron
-  std::vector<std::uint32_t> cell;  ///< T: source 3-cell of the model
+  TetSliceArray<double> uvw;
+  TetSliceArray<std::uint32_t> tet;   ///< T: source tetrahedron
+  TetSliceArray<std::uint32_t> cell;  ///< T: source 3-cell of the model
 
   std::size_t vertex_count() const { return vertex_source.size(); }
   std::size_t triangle_count() const { return tet.size(); }
