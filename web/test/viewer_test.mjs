@@ -877,6 +877,11 @@ async function runChecks(args, browser, base, tmp, downloads, bench) {
       // section at two offsets against `cw4d slice` of the same file.
       const sameModel = async (file) => {
         const name = path.basename(file);
+        // Loaded, or refused with an error line (said at once, not after a timeout).
+        await p.waitForFunction((m) => (window.cw4dViewer.state().model === m && window.cw4dViewer.ready) ||
+          document.querySelector('#status').classList.contains('error'), `file:${name}`, { timeout: READY, polling: 50 });
+        const refused = await p.locator('#status').evaluate((e) => (e.classList.contains('error') ? e.textContent.trim() : ''));
+        ok(!refused, `opening ${name} shows the error '${refused}'`);
         const s = await waitModel(p, `file:${name}`);
         const r = await run(args.cw4d, ['info', file, '--json']);
         ok(r.code === 0, `cw4d info ${file} exited ${r.code}: ${r.stderr.trim()}`);
