@@ -376,6 +376,14 @@ TEST_CASE("G4MF hostile input: every defect is one ParseError naming it", "[g4mf
 
   SECTION("JSON and header") {
     CHECK(contains(reason("{\"asset\": "), "invalid JSON"));
+    {
+      // A file cut inside its data URI: the message echoes the token it stopped in, shortened.
+      const std::string text = with_buffer(good, std::string(6000, 'x')).dump(1);
+      const std::string cut = reason(text.substr(0, text.find("base64,") + 4000));
+      CHECK(contains(cut, "missing closing quote; last read: '\"data:application/octet-stream;"));
+      CHECK(contains(cut, "...' (4"));
+      CHECK(cut.size() < 300);
+    }
     CHECK(contains(reason("[1, 2]"), "must be a JSON object"));
     CHECK(contains(reason("{}"), "\"asset\" is missing"));
     CHECK(contains(reason("{\"asset\": {\"dimension\": 4.5}}"),

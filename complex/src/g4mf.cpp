@@ -398,6 +398,14 @@ json parse_json(std::string_view text, const std::string& name) {
     const std::size_t colon =
         reason.find("]: ") == std::string::npos ? reason.find(": ") : reason.find("]: ") + 1;
     if (colon != std::string::npos) reason = reason.substr(colon + 2);
+    // The reason ends with the token the parser stopped in ("; last read: '...'"), which for a
+    // file cut inside its data URI is the whole base64 rest: cut it as every echo of user text.
+    const std::string last_read = "; last read: '";
+    const std::size_t at = reason.find(last_read);
+    if (at != std::string::npos && reason.size() > at + last_read.size() && reason.back() == '\'')
+      reason = reason.substr(0, at) + "; last read: " +
+               quote_user_text(std::string_view(reason).substr(
+                   at + last_read.size(), reason.size() - at - last_read.size() - 1));
     std::size_t line = 1;
     for (std::size_t i = 0; i < std::min<std::size_t>(e.byte, text.size()); ++i)
       line += text[i] == '\n';
@@ -2022,8 +2030,9 @@ G4mfFiles g4mf_simplex_files(const G4mfSimplexMesh& mesh, const G4mfWriteOptions
       mesh.cell_normals.cols(), static_cast<Eigen::Index>(mesh.cell_colors.size())));
   if (mesh.positions.cols() == 0 || count == 0 || mesh.simplexes.size() % corners != 0 ||
       mesh.simplex_cell.size() != count ||
-      std::any_of(mesh.simplexes.begin(), mesh.simplexes.end(),
-                  [&](std::uint32_t v) { return v >= mesh.positions.cols(); }) ||
+      std::any_of(
+          mesh.simplexes.begin(), mesh.simplexes.end(),
+          [&](std::uint32_t v) { return std::cmp_greater_equal(v, mesh.positions.cols()); }) ||
       std::any_of(mesh.simplex_cell.begin(), mesh.simplex_cell.end(),
                   [&](std::uint32_t c) { return cells > 0 && c >= cells; }) ||
       (mesh.cell_normals.cols() > 0 && mesh.cell_normals.rows() != n) ||

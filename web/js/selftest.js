@@ -49,6 +49,25 @@ export const BUFFER_CASES = [
   { spec: 'tiger:2,2,0.6,12', name: 'tiger', rotate: [['xz', 25]], normal: [0, 0, 1, 1], offset: 0.4 },
 ];
 
+// G4MF files (served by the browser test under ?buffers=DIR), opened as the viewer opens a
+// picked or dropped file, as bytes: the native `cw4d convert` of two Miratope files (.g4tf with
+// the buffer embedded, binary .g4b) and two samples of tests/data/g4mf written without cw4d's
+// code (a binary tesseract in two surfaces; the 5-cell as bare tetrahedra).
+// `twin`: the same model as a built-in spec or a sample file, whose native section must be
+// the same too.
+export const G4MF_CASES = [
+  { g4mf: 'icositetrachoron.g4tf', twin: 'Icositetrachoron.off', rotate: [['xw', 20]],
+    normal: [0, 0, 0, 1], offset: 0.1 },
+  { g4mf: 'cantellated-icositetrachoron.g4b', twin: 'Cantellated icositetrachoron.off',
+    rotate: [['yw', 7]], normal: [0, 0, 1, 1], offset: 0.05 },
+  { g4mf: 'tesseract-two-surfaces.g4b', twin: 'tesseract', rotate: [['xw', 30], ['yw', 25], ['zw', 20]],
+    normal: [0, 0, 0, 1], offset: 0.25 },
+  { g4mf: 'pentachoron-tetra.g4tf', rotate: [['xy', 10], ['zw', 40]], normal: [1, 1, 1, 1], offset: 0.1 },
+];
+// Bad G4MF files: each must give one error line naming the file (the browser test compares it
+// with the native CLI's message for the same bytes), the model loaded before staying loaded.
+export const G4MF_BAD = ['bad-json.g4tf', 'truncated.g4b', 'tesseract-external.g4tf'];
+
 export const BENCH = ['120-cell', 'omnitruncated 120-cell'];
 
 // The core's tetrahedra (tets()) against a native GPU buffer's, entry by entry: the counts,
@@ -76,17 +95,27 @@ function sameTets(a, b) {
     uvwMirrored: mirrored, uvwOther };
 }
 
-async function load(core, c) {
+async function fetchBytes(url) {
+  const res = await fetch(url);
+  if (!res.ok) throw new Error(`cannot fetch ${url}: ${res.status}`);
+  return new Uint8Array(await res.arrayBuffer());
+}
+
+async function load(core, c, buffers = null) {
   const m = new core.Model();
   let err;
-  if (c.file) {
+  if (c.g4mf) {
+    // The core takes a Uint8Array (what the viewer hands it) or an ArrayBuffer: both are used.
+    const bytes = await fetchBytes(`${buffers}/${c.g4mf}`);
+    err = m.loadG4mf(c.g4mf.endsWith('.g4tf') ? bytes.buffer : bytes, c.g4mf);
+  } else if (c.file) {
     const res = await fetch(c.file);
     if (!res.ok) throw new Error(`cannot fetch ${c.file}: ${res.status}`);
     err = m.loadOff(await res.text(), c.file);
   } else {
     err = m.loadSpec(c.spec);
   }
-  if (err) throw new Error(`${c.spec || c.file}: ${err}`);
+  if (err) throw new Error(`${c.spec || c.file || c.g4mf}: ${err}`);
   const perr = m.setPlacement(c.rotate, []);
   if (perr) throw new Error(`${c.spec}: ${perr}`);
   return m;
@@ -98,12 +127,15 @@ function unit(n) {
 }
 
 export async function runSelftest(core, canvas, buffers = null) {
-  const out = { cases: [], sweep: null, gpu: [], buffers: [], bench: [], catalogue: [], errors: {} };
-  for (const c of CASES) {
-    const m = await load(core, c);
+  const out = { cases: [], sweep: null, gpu: [], buffers: [], bench: [], catalogue: [], errors: {},
+    g4mfErrors: {} };
+  for (const c of buffers ? CASES.concat(G4MF_CASES) : CASES) {
+    const m = await load(core, c, buffers);
     const s = m.slice(c.normal, c.offset);
-    if (s.error) throw new Error(`${c.spec}: ${s.error}`);
-    out.cases.push({ spec: c.spec || null, file: c.file || null, rotate: c.rotate, normal: c.normal,
+    if (s.error) throw new Error(`${c.spec || c.file || c.g4mf}: ${s.error}`);
+    const info = m.info();
+    out.cases.push({ spec: c.spec || null, file: c.file || null, g4mf: c.g4mf || null, twin: c.twin || null,
+      modelFvector: info.fvector, rotate: c.rotate, normal: c.normal,
       offset: c.offset, fvector: s.fvector, volume: s.volume, general: s.general,
       triangles: s.indices ? s.indices.length / 3 : 0 });
     m.delete();
@@ -174,7 +206,19 @@ export async function runSelftest(core, canvas, buffers = null) {
   out.errors.spec = m.loadSpec('no-such-model');
   out.errors.off = m.loadOff('4OFF\n3 1 1 1\n0 0 0 0\nnot numbers\n', 'bad.4off');
   out.errors.noModel = m.slice([0, 0, 0, 1], 0).error || '';
+  out.errors.g4mfNotBytes = m.loadG4mf('{"asset": {}}', 'text.g4tf');
   m.delete();
+  if (buffers) {
+    // A model is loaded first: a bad file must leave it loaded.
+    const kept = await load(core, G4MF_CASES[0], buffers);
+    const before = JSON.stringify(kept.info().fvector);
+    for (const name of G4MF_BAD) {
+      const err = kept.loadG4mf(await fetchBytes(`${buffers}/${name}`), name);
+      const after = JSON.stringify(kept.info().fvector);
+      out.g4mfErrors[name] = { error: err, kept: after === before };
+    }
+    kept.delete();
+  }
   out.planes = ROTATION_PLANES;
   return out;
 }

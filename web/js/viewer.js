@@ -477,9 +477,10 @@ export async function start(createCw4d, config = {}) {
     loaded(state.model);
     return true;
   };
-  const loadText = (text, name) => {
+  // A model file's contents: nOFF text (a string) or the bytes of a G4MF file (.g4tf, .g4b).
+  const loadText = (contents, name) => {
     const next = new core.Model();
-    const err = next.loadOff(text, name);
+    const err = typeof contents === 'string' ? next.loadOff(contents, name) : next.loadG4mf(contents, name);
     if (err) {
       next.delete();
       status(err, true, 'file');
@@ -748,18 +749,28 @@ export async function start(createCw4d, config = {}) {
       status(`${json.name}: ${err.message}`, true, 'file');
     }
   };
-  // Drop a .4off / .off file anywhere on the page (or a .json + .bin pair, above).
+  // A model file: G4MF (.g4tf text, .g4b binary) goes to the core as bytes, anything else as
+  // nOFF text.
+  const G4MF = /\.(g4tf|g4b)$/i;
+  const openFile = async (file) => {
+    try {
+      loadText(G4MF.test(file.name) ? new Uint8Array(await file.arrayBuffer()) : await file.text(), file.name);
+    } catch (err) {
+      status(`${file.name}: cannot read the file (${err.message})`, true, 'file');
+    }
+  };
+  // Drop a .4off / .off / .g4tf / .g4b file anywhere on the page (or a .json + .bin pair, above).
   window.addEventListener('dragover', (e) => e.preventDefault());
   window.addEventListener('drop', async (e) => {
     e.preventDefault();
     const files = [...e.dataTransfer.files];
     if (files.some((f) => f.name.endsWith('.json')) && files.some((f) => f.name.endsWith('.bin')))
       return loadBuffers(files);
-    if (files[0]) loadText(await files[0].text(), files[0].name);
+    if (files[0]) await openFile(files.find((f) => G4MF.test(f.name)) || files[0]);
   });
   $('file').addEventListener('change', async () => {
     const file = $('file').files[0];
-    if (file) loadText(await file.text(), file.name);
+    if (file) await openFile(file);
   });
 
   // --- the test hook ------------------------------------------------------------------------

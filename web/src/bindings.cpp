@@ -1,7 +1,7 @@
-// The JavaScript interface of the WebAssembly core (embind): models from a spec or 4OFF text,
-// the catalogue, a 4D placement, slices and sweeps as typed arrays, and the tetrahedra of the
-// convex cells for the GPU path. Everything goes through the public API of complex/ and
-// section/; errors come back as {error: "one line"} objects, never as aborts.
+// The JavaScript interface of the WebAssembly core (embind): models from a spec, 4OFF text or
+// the bytes of a G4MF file, the catalogue, a 4D placement, slices and sweeps as typed arrays, and
+// the tetrahedra of the convex cells for the GPU path. Everything goes through the public API of
+// complex/ and section/; errors come back as {error: "one line"} objects, never as aborts.
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -21,6 +22,7 @@
 #include "cw4d/complex/builtins.hpp"
 #include "cw4d/complex/complex.hpp"
 #include "cw4d/complex/error.hpp"
+#include "cw4d/complex/g4mf.hpp"
 #include "cw4d/complex/geometry.hpp"
 #include "cw4d/complex/off_io.hpp"
 #include "cw4d/complex/transform.hpp"
@@ -111,9 +113,27 @@ constexpr UnavailableFamily kUnavailable[] = {
     {"snub 24-cell", "snub 24-cell s3s4o3o", kNoCgal},
     {"grand antiprism", "grand antiprism", kNoCgal},
     {"glome:R,N", "convex polytope inscribed in the 3-sphere", kNoCgal},
-    {"FILE.g4tf | FILE.g4b", "a G4MF file (godot-4d's Good 4D Model Format)",
-     "the viewer opens nOFF files; cw4d convert FILE.g4tf -o FILE.4off makes one"},
 };
+
+// The class of a JavaScript value as Object.prototype.toString names it ("Uint8Array", ...).
+std::string js_class(const val& v) {
+  const std::string tag =
+      val::global("Object")["prototype"]["toString"].call<std::string>("call", v);
+  return tag.size() > 9 ? tag.substr(8, tag.size() - 9) : tag;  // "[object NAME]"
+}
+
+// The bytes of a Uint8Array or an ArrayBuffer, copied into the wasm heap as they are; nullopt
+// for any other value.
+std::optional<std::string> to_bytes(const val& data) {
+  const std::string cls = js_class(data);
+  if (cls != "Uint8Array" && cls != "ArrayBuffer") return std::nullopt;
+  const val bytes = cls == "Uint8Array" ? data : val::global("Uint8Array").new_(data);
+  std::string out(bytes["length"].as<std::size_t>(), '\0');
+  // No allocation between the view's making and its use: the heap cannot move under it.
+  val(emscripten::typed_memory_view(out.size(), reinterpret_cast<std::uint8_t*>(out.data())))
+      .call<void>("set", bytes);
+  return out;
+}
 
 std::vector<double> to_doubles(const val& array) {
   return emscripten::vecFromJSArray<double>(array);
@@ -179,6 +199,22 @@ class WebModel {
     try {
       std::istringstream in(text);
       return adopt(read_off(in, name), name);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+
+  /// Loads the bytes of a G4MF file (a dropped .g4tf or .g4b, as a Uint8Array or ArrayBuffer:
+  /// .g4b is binary); `name` names it in messages. A buffer in an external file is refused
+  /// (the page has the one file only).
+  std::string load_g4mf(const val& data, const std::string& name) {
+    try {
+      const std::optional<std::string> bytes = to_bytes(data);
+      if (!bytes)
+        return name + ": the G4MF file's bytes must come as a Uint8Array or an ArrayBuffer";
+      G4mfReadOptions options;
+      options.allow_external = false;
+      return adopt(read_g4mf(*bytes, name, options), name);
     } catch (const std::exception& e) {
       return e.what();
     }
@@ -565,7 +601,6 @@ class WebModel {
 val catalogue() {
   val out = val::array();
   for (const BuiltinInfo& b : builtin_list(core_catalogue())) {
-    if (b.spec.find(".g4tf") != std::string::npos) continue;  // listed as unavailable below
     val e = val::object();
     e.set("spec", b.spec);
     e.set("description", b.description);
@@ -632,6 +667,7 @@ EMSCRIPTEN_BINDINGS(cw4d) {
       .constructor<>()
       .function("loadSpec", &WebModel::load_spec)
       .function("loadOff", &WebModel::load_off)
+      .function("loadG4mf", &WebModel::load_g4mf)
       .function("info", &WebModel::info)
       .function("setPlacement", &WebModel::set_placement)
       .function("setMatrix", &WebModel::set_matrix)

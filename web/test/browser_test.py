@@ -5,23 +5,29 @@
 native cw4d command line:
 
   * f-vector and volume of every section of a fixed list of models, placements and planes
-    (built-ins, dropped 4OFF files, a degenerate plane) equal those `cw4d slice` prints;
+    (built-ins, dropped 4OFF files, G4MF files passed as bytes, a degenerate plane) equal those
+    `cw4d slice` prints of the same model or file;
   * a sweep's layers equal the native slices at the same offsets;
   * the GPU tetrahedral path covers the same pixels as the CPU path (IoU >= 0.97), both with
     the tetrahedra the WebAssembly core makes and with the GPU buffers (.json + .bin) of the
     native `cw4d tetrahedralize`, which this test writes and serves; the core's tetrahedra
     (cw4d_tetra in WebAssembly) are those buffers' tetrahedra, entry by entry;
   * the catalogue lists every family of `cw4d list`, the CGAL ones marked unavailable;
-  * bad input gives one-line errors;
+  * bad input gives one-line errors; a bad G4MF file the same message as `cw4d info` gives for
+    the same bytes, and the model loaded before stays loaded;
   * the one-file page of `cw4d view`, opened from disk (file://, --dump-dom), shows the section
-    `cw4d slice` makes of the same placed model, and bad `cw4d view` requests exit 1 with one
-    error line and no file.
+    `cw4d slice` makes of the same placed model (a built-in and a .g4b file), and bad
+    `cw4d view` requests exit 1 with one error line and no file.
+
+The G4MF files are made here: `cw4d convert` of two Miratope files (.g4tf and .g4b), two
+samples of tests/data/g4mf written without cw4d (--g4mf-samples), and bad files cut from them.
 
 It also prints the slice time of the WebAssembly core beside the native `cw4d bench` figure
 for the same models (reported, not asserted: speed is measured, never a test condition).
 
 usage: browser_test.py --site build-web/web/site --cw4d build/apps/cw4d
-                       --samples tests/data/miratope [--report out.json]
+                       --samples tests/data/miratope [--g4mf-samples tests/data/g4mf]
+                       [--report out.json]
 """
 import argparse
 import http.server
@@ -104,6 +110,36 @@ def uvw_note(same):
         if differ else ""
 
 
+# The G4MF files the page's G4MF_CASES and G4MF_BAD read (web/js/selftest.js): the native
+# `cw4d convert` of Miratope files, samples of tests/data/g4mf, and bad files cut from them.
+G4MF_CONVERTED = {"icositetrachoron.g4tf": "regular/Icositetrachoron.off",
+                  "cantellated-icositetrachoron.g4b":
+                      "convex uniform/Cantellated icositetrachoron.off"}
+G4MF_SAMPLES = ["tesseract-two-surfaces.g4b", "pentachoron-tetra.g4tf",
+                "tesseract-external.g4tf"]  # the last without its .bin: refused by the page
+
+
+def make_g4mf_files(args, generated):
+    for name, source in G4MF_CONVERTED.items():
+        out = os.path.join(generated, name)
+        run = subprocess.run([args.cw4d, "convert", os.path.join(args.samples, source), "-o", out],
+                             capture_output=True, text=True)
+        if run.returncode != 0 or not os.path.isfile(out):
+            fail(f"cw4d convert {source} -o {name} exited {run.returncode}: {run.stderr.strip()}")
+    for name in G4MF_SAMPLES:
+        shutil.copy(os.path.join(args.g4mf_samples, name), os.path.join(generated, name))
+    with open(os.path.join(generated, "icositetrachoron.g4tf"), "rb") as f:
+        text = f.read()
+    with open(os.path.join(generated, "cantellated-icositetrachoron.g4b"), "rb") as f:
+        binary = f.read()
+    if binary[:4] != b"G4MF" or b"\0" not in binary:
+        fail("cw4d convert wrote a .g4b without the G4MF magic or without zero bytes")
+    with open(os.path.join(generated, "bad-json.g4tf"), "wb") as f:
+        f.write(text[:len(text) // 2])  # the JSON stops in the middle
+    with open(os.path.join(generated, "truncated.g4b"), "wb") as f:
+        f.write(binary[:len(binary) // 2])  # the header announces more bytes than there are
+
+
 def run_page(args, generated):
     for name, spec in BUFFER_MODELS.items():
         out = os.path.join(generated, name + ".bin")
@@ -111,6 +147,7 @@ def run_page(args, generated):
                              text=True)
         if run.returncode != 0:
             fail(f"cw4d tetrahedralize {spec} exited {run.returncode}: {run.stderr.strip()}")
+    make_g4mf_files(args, generated)
     server = Server(os.path.abspath(args.site), generated)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
@@ -139,9 +176,11 @@ def run_page(args, generated):
 COUNT = re.compile(r"(\d+) (vertex|vertices|edges?|faces?|cells?|rank-\d+ elements?)")
 
 
-def native_slice(args, tmp, case, offset):
+def native_slice(args, tmp, case, offset, generated=None):
     model = case["spec"]
-    if case.get("file"):
+    if case.get("g4mf"):
+        model = os.path.join(generated, case["g4mf"])
+    elif case.get("file"):
         name = os.path.basename(case["file"])
         found = [os.path.join(d, name) for d, _, files in os.walk(args.samples) if name in files]
         if len(found) != 1:
@@ -177,19 +216,48 @@ def native_bench_us(args, model):
     return float(m.group(1))
 
 
-def check_view(args, tmp):
+def check_view(args, tmp, case, label, bad_requests=False):
     """`cw4d view` writes one file that opens from disk (file://, no server) and shows the same
     section as `cw4d slice` of the same placed model."""
-    case = {"spec": "24-cell", "rotate": [["xw", 40], ["xy", 15], ["zw", -25]],
-            "normal": [1, 0, 1, 2], "offset": 0.35}
     page = os.path.join(tmp, "view.html")
-    cmd = [args.cw4d, "view", case["spec"], "--normal", "1,0,1,2", "--offset", "0.35", "-o", page,
+    cmd = [args.cw4d, "view", case["spec"], "--normal", ",".join(map(str, case["normal"])),
+           "--offset", str(case["offset"]), "-o", page,
            "--template", os.path.join(args.site, "cw4d-view.html")]
     for plane, deg in case["rotate"]:
         cmd += ["--rotate", f"{plane}:{deg}"]
     run = subprocess.run(cmd, capture_output=True, text=True)
     if run.returncode != 0:
         fail(f"{' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    if bad_requests:
+        check_bad_view_requests(args, tmp)
+    profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
+    try:
+        dump = subprocess.run(
+            chromium_command(args.chromium, profile, "file://" + os.path.abspath(page))[:-1] +
+            ["--virtual-time-budget=20000", "--dump-dom", "file://" + os.path.abspath(page)],
+            capture_output=True, text=True, timeout=300)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+    fv = re.search(r'id="fvector">\(([\d, ]+)\)<', dump.stdout)
+    vol = re.search(r'id="volume">([^<]+)<', dump.stdout)
+    if not fv or not vol:
+        status = re.search(r'id="status"[^>]*>([^<]*)<', dump.stdout)
+        fail(f"the page of cw4d view {label} shows no section (status: "
+             f"{status.group(1) if status else dump.stdout[:300]!r})")
+    # The model picker names the model shown (it once said "5-cell" on every such page).
+    picked = re.findall(r'<option value="[^"]*" selected="">([^<]*)<', dump.stdout)
+    if len(picked) != 1 or not picked[0].startswith(case["spec"]):
+        fail(f"the model picker of the cw4d view page shows {picked}, not {case['spec']}",
+             fatal=False)
+    counts, volume, line = native_slice(args, tmp, case, case["offset"])
+    shown = [int(x) for x in fv.group(1).split(",")]
+    if shown != counts or not close(float(vol.group(1)), volume):
+        fail(f"cw4d view {label} page shows ({fv.group(1)}), volume {vol.group(1)}; "
+             f"native '{line}'", fatal=False)
+    return 1
+
+
+def check_bad_view_requests(args, tmp):
     # Bad requests: exit 1 (usage) with one error line and no file written.
     good = {"-o": os.path.join(tmp, "bad.html"), "--normal": "0,0,0,1",
             "--template": os.path.join(args.site, "cw4d-view.html")}
@@ -204,31 +272,32 @@ def check_view(args, tmp):
         if r.returncode != 1 or len(lines) != 1 or why not in lines[0] or written:
             fail(f"{' '.join(argv)}: exit {r.returncode}, stderr {r.stderr!r}, file written: "
                  f"{written}", fatal=False)
-    profile = tempfile.mkdtemp(prefix="cw4d-chromium-")
-    try:
-        dump = subprocess.run(
-            chromium_command(args.chromium, profile, "file://" + os.path.abspath(page))[:-1] +
-            ["--virtual-time-budget=20000", "--dump-dom", "file://" + os.path.abspath(page)],
-            capture_output=True, text=True, timeout=300)
-    finally:
-        shutil.rmtree(profile, ignore_errors=True)
-    fv = re.search(r'id="fvector">\(([\d, ]+)\)<', dump.stdout)
-    vol = re.search(r'id="volume">([^<]+)<', dump.stdout)
-    if not fv or not vol:
-        status = re.search(r'id="status"[^>]*>([^<]*)<', dump.stdout)
-        fail("the page of cw4d view shows no section (status: "
-             f"{status.group(1) if status else dump.stdout[:300]!r})")
-    # The model picker names the model shown (it once said "5-cell" on every such page).
-    picked = re.findall(r'<option value="[^"]*" selected="">([^<]*)<', dump.stdout)
-    if len(picked) != 1 or not picked[0].startswith(case["spec"]):
-        fail(f"the model picker of the cw4d view page shows {picked}, not {case['spec']}",
-             fatal=False)
-    counts, volume, line = native_slice(args, tmp, case, case["offset"])
-    shown = [int(x) for x in fv.group(1).split(",")]
-    if shown != counts or not close(float(vol.group(1)), volume):
-        fail(f"cw4d view page shows ({fv.group(1)}), volume {vol.group(1)}; native '{line}'",
-             fatal=False)
-    return 1
+
+
+def check_g4mf_errors(args, generated, shown):
+    """Each bad G4MF file: the page shows one line naming the file, keeps the model it had, and
+    the line is the native CLI's message for the same bytes (`cw4d info NAME`, run in the folder
+    of the file so that both name it alike); the external buffer the page cannot have is said so."""
+    if sorted(shown) != sorted(["bad-json.g4tf", "truncated.g4b", "tesseract-external.g4tf"]):
+        fail(f"the page tried the bad G4MF files {sorted(shown)}")
+    for name, got in shown.items():
+        err = got["error"]
+        if not err or "\n" in err or name not in err or not got["kept"]:
+            fail(f"{name}: the page's error is {err!r}, the loaded model kept: {got['kept']}",
+                 fatal=False)
+            continue
+        if "external" in name:
+            if "external" not in err:
+                fail(f"{name}: the page's error does not say the buffer is external: {err!r}",
+                     fatal=False)
+            continue
+        run = subprocess.run([os.path.abspath(args.cw4d), "info", name], capture_output=True, text=True,
+                             cwd=generated)
+        lines = run.stderr.strip().splitlines()
+        if run.returncode == 0 or len(lines) != 1 or not lines[0].endswith(err):
+            fail(f"{name}: the page says {err!r}; cw4d info exits {run.returncode} with "
+                 f"{run.stderr.strip()!r}", fatal=False)
+    return len(shown)
 
 
 def main():
@@ -236,29 +305,59 @@ def main():
     ap.add_argument("--site", required=True)
     ap.add_argument("--cw4d", required=True)
     ap.add_argument("--samples", required=True)
+    ap.add_argument("--g4mf-samples", default=os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "data", "g4mf"))
     ap.add_argument("--chromium", default="chromium")
     ap.add_argument("--timeout", type=float, default=600)
     ap.add_argument("--report", help="write the measured figures as JSON here")
     args = ap.parse_args()
 
-    t0 = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="cw4d-buffers-") as generated:
-        page = run_page(args, generated)
+        check_all(args, generated)
+
+
+def check_all(args, generated):
+    t0 = time.monotonic()
+    page = run_page(args, generated)
     page_seconds = time.monotonic() - t0
     if not page.get("ok"):
         fail(f"the page's selftest failed: {page.get('error')}")
 
     checked = 0
     with tempfile.TemporaryDirectory(prefix="cw4d-browser-") as tmp:
+        g4mf_cases = [c for c in page["cases"] if c.get("g4mf")]
+        if sorted(c["g4mf"] for c in g4mf_cases) != sorted(
+                list(G4MF_CONVERTED) + [n for n in G4MF_SAMPLES if "external" not in n]):
+            fail(f"the page opened the G4MF files {[c['g4mf'] for c in g4mf_cases]}")
+        for case in g4mf_cases:
+            # The whole model as the page read it against `cw4d info` of the same file.
+            path = os.path.join(generated, case["g4mf"])
+            info = subprocess.run([args.cw4d, "info", path, "--json"], capture_output=True,
+                                  text=True)
+            if info.returncode != 0:
+                fail(f"cw4d info {path} exited {info.returncode}: {info.stderr.strip()}")
+            native_fv = json.loads(info.stdout)["fvector"]
+            if case["modelFvector"] != native_fv:
+                fail(f"{case['g4mf']}: the page read f-vector {case['modelFvector']}, "
+                     f"cw4d info {native_fv}", fatal=False)
         for case in page["cases"]:
-            counts, volume, line = native_slice(args, tmp, case, case["offset"])
-            label = f"{case['spec'] or case['file']} {case['rotate']} n={case['normal']} " \
-                    f"d={case['offset']}"
+            counts, volume, line = native_slice(args, tmp, case, case["offset"], generated)
+            label = f"{case['spec'] or case['file'] or case['g4mf']} {case['rotate']} " \
+                    f"n={case['normal']} d={case['offset']}"
             if case["fvector"] != counts:
                 fail(f"{label}: WASM f-vector {case['fvector']} volume {case['volume']!r}, "
                      f"native '{line}'", fatal=False)
             elif not close(case["volume"], volume):
                 fail(f"{label}: WASM volume {case['volume']!r}, native '{line}'", fatal=False)
+            if case.get("twin"):
+                # The same model as a built-in or as the nOFF file it was converted from.
+                twin = dict(case, g4mf=None, spec=case["twin"], file=None)
+                if case["twin"].endswith(".off"):
+                    twin.update(spec=None, file=case["twin"])
+                t_counts, t_volume, t_line = native_slice(args, tmp, twin, case["offset"])
+                if case["fvector"] != t_counts or not close(case["volume"], t_volume):
+                    fail(f"{label}: WASM f-vector {case['fvector']} volume {case['volume']!r}, "
+                         f"native of its twin {case['twin']}: '{t_line}'", fatal=False)
             if len(case["normal"]) == 4 and case["triangles"] <= 0:
                 fail(f"{label}: no triangles")  # (3D models: the section is an outline)
             checked += 1
@@ -268,7 +367,13 @@ def main():
             if layer["fvector"] != counts or not close(layer["volume"], volume):
                 fail(f"sweep layer d={layer['offset']}: WASM {layer}, native '{line}'", fatal=False)
             checked += 1
-        checked += check_view(args, tmp)
+        checked += check_view(args, tmp, {"spec": "24-cell", "rotate": [["xw", 40], ["xy", 15], [
+            "zw", -25]], "normal": [1, 0, 1, 2], "offset": 0.35}, "24-cell", bad_requests=True)
+        # A G4MF file (binary) as the model of `cw4d view`.
+        checked += check_view(args, tmp, {
+            "spec": os.path.join(generated, "cantellated-icositetrachoron.g4b"),
+            "rotate": [["yw", 7], ["xz", 20]], "normal": [0, 0, 1, 1], "offset": 0.05},
+            "cantellated-icositetrachoron.g4b")
 
     for g in page["gpu"]:
         if g["skippedCells"] != 0 or g["tets"] <= 0:
@@ -313,13 +418,18 @@ def main():
     unavailable = sorted(c["spec"] for c in page["catalogue"] if not c["available"])
     if not unavailable:
         fail("the catalogue marks no family as unavailable (the CGAL ones are not built)")
+    g4mf_entries = [c for c in page["catalogue"] if ".g4tf" in c["spec"]]
+    if len(g4mf_entries) != 1 or not g4mf_entries[0]["available"]:
+        fail(f"the catalogue does not list G4MF files as available: {g4mf_entries}")
 
     errors = page["errors"]
     for key, text in errors.items():
         if not text or "\n" in text:
             fail(f"error '{key}' is not one non-empty line: {text!r}")
-    if "no-such-model" not in errors["spec"] or "bad.4off" not in errors["off"]:
+    if "no-such-model" not in errors["spec"] or "bad.4off" not in errors["off"] or \
+            "text.g4tf" not in errors["g4mfNotBytes"]:
         fail(f"error lines do not name their input: {errors}")
+    checked_errors = check_g4mf_errors(args, generated, page["g4mfErrors"])
 
     bench = []
     for b in page["bench"]:
@@ -333,6 +443,7 @@ def main():
           "; the core's tetrahedra = the native buffers' (" +
           ", ".join(f"{g['spec']} {g['tets']}" + uvw_note(g.get("same") or {})
                     for g in page["buffers"]) + ")" +
+          f"; {checked_errors} bad G4MF files give the native error line"
           f"; unavailable in WASM: {', '.join(unavailable)}; page ran {page_seconds:.1f} s")
     for b in bench:
         print(f"browser_test: slice hot path {b['model']}: WASM {b['wasm_us']:.1f} us, native "

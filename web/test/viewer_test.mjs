@@ -291,9 +291,11 @@ const COUNT = /(\d+) (vertex|vertices|edges?|faces?|cells?|rank-\d+ elements?)/g
 
 // `cw4d slice` of the model cut by n·x = d where the page cuts R·model by n·x = d: the same
 // section (up to the rotation) as the model itself cut by (Rᵀn)·x = d.
-async function nativeSlice(args, tmp, state) {
+// `model` names the model for the CLI when state.model does not (a file opened in the page is
+// `file:NAME`: the path of the same file).
+async function nativeSlice(args, tmp, state, model = state.model) {
   const n = apply(transpose(state.rotation), state.normal);
-  const argv = ['slice', state.model, '--normal', n.map((x) => String(x)).join(','),
+  const argv = ['slice', model, '--normal', n.map((x) => String(x)).join(','),
     '--offset', String(state.offset), '-o', path.join(tmp, 'native-section.obj')];
   const r = await run(args.cw4d, argv);
   const cmd = `cw4d ${argv.map((a) => (/\s/.test(a) ? `'${a}'` : a)).join(' ')}`;
@@ -308,10 +310,10 @@ async function nativeSlice(args, tmp, state) {
   return { fvector: counts, volume: vol ? Number(vol[1]) : NaN, line, cmd };
 }
 
-async function compareWithNative(args, tmp, page, what) {
+async function compareWithNative(args, tmp, page, what, model = undefined) {
   const { state, counts } = await page.evaluate(() => ({
     state: window.cw4dViewer.state(), counts: window.cw4dViewer.counts() }));
-  const native = await nativeSlice(args, tmp, state);
+  const native = await nativeSlice(args, tmp, state, model);
   ok(counts && native.fvector.length > 0 && counts.fvector.some((k) => k > 0), `${what}: the section is empty (offset ${state.offset}, ` +
     `radius ${state.radius}; ${counts ? `counts() (${counts.fvector})` : 'counts() is null'}, native '${native.line}')`);
   ok(JSON.stringify(counts.fvector) === JSON.stringify(native.fvector),
@@ -328,7 +330,8 @@ async function compareWithNative(args, tmp, page, what) {
 const TYPES = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript',
   '.wasm': 'application/wasm', '.css': 'text/css', '.json': 'application/json', '.png': 'image/png',
   '.svg': 'image/svg+xml', '.ico': 'image/x-icon', '.data': 'application/octet-stream',
-  '.bin': 'application/octet-stream', '.4off': 'text/plain', '.off': 'text/plain', '.txt': 'text/plain' };
+  '.bin': 'application/octet-stream', '.4off': 'text/plain', '.off': 'text/plain', '.txt': 'text/plain',
+  '.g4tf': 'application/json', '.g4b': 'application/octet-stream' };
 
 function startServer(root) {
   const server = http.createServer((req, res) => {
@@ -441,6 +444,36 @@ async function waitModel(page, spec) {
   await page.waitForFunction((m) => window.cw4dViewer.state().model === m && window.cw4dViewer.ready === true,
     spec, { timeout: READY, polling: 50 });
   return state(page);
+}
+
+// A file dropped on the page as a user drops one from a file manager: a DataTransfer holding a
+// File of the file's bytes, dropped on the canvas (the page listens on the window).
+async function dropFile(page, file) {
+  const transfer = await page.evaluateHandle(({ name, base64 }) => {
+    const bytes = Uint8Array.from(atob(base64), (ch) => ch.charCodeAt(0));
+    const dt = new DataTransfer();
+    dt.items.add(new File([bytes], name));
+    return dt;
+  }, { name: path.basename(file), base64: fs.readFileSync(file).toString('base64') });
+  await page.dispatchEvent('canvas#view', 'dragover', { dataTransfer: transfer });
+  await page.dispatchEvent('canvas#view', 'drop', { dataTransfer: transfer });
+  await transfer.dispose();
+}
+
+// Waits for the status line to show an error; returns {cls, text}.
+async function waitError(page) {
+  await page.waitForFunction(() => document.querySelector('#status').classList.contains('error'), null,
+    { timeout: 15000 }).catch(() => {});
+  return page.locator('#status').evaluate((e) => ({ cls: e.className, text: e.textContent.trim() }));
+}
+
+// The error line `cw4d info NAME` prints for a bad file, run in the file's folder so that it
+// names the file as the page does (by its name alone).
+async function nativeError(args, file) {
+  const r = await new Promise((resolve) => execFile(args.cw4d, ['info', path.basename(file)],
+    { cwd: path.dirname(file), timeout: 60000 }, (error, stdout, stderr) =>
+      resolve({ code: error ? (error.code ?? 1) : 0, stderr })));
+  return { code: r.code, lines: r.stderr.trim().split('\n') };
 }
 
 const sameRotation = (a, b, tol = 1e-9) => maxDiff(a, b) <= tol;
@@ -812,6 +845,103 @@ async function runChecks(args, browser, base, tmp, downloads, bench) {
       text: e.selectedOptions[0] ? e.selectedOptions[0].textContent : '' }));
     ok(shown.value === spec || shown.text.includes(spec), `select#model shows '${shown.value}' ('${shown.text}') for ${spec}`);
   });
+
+  // 6e. G4MF files, opened as a person opens them: the file picker and a drop on the page.
+  await check('6e G4MF: a .g4tf from the file picker, .g4b files dropped; sections equal cw4d slice; bad files are one error line', async () => {
+    const files = path.join(tmp, 'g4mf');
+    fs.mkdirSync(files, { recursive: true });
+    const miratope = path.resolve(HERE, '../../tests/data/miratope');
+    const samples = path.resolve(HERE, '../../tests/data/g4mf');
+    const convert = async (source, name) => {
+      const out = path.join(files, name);
+      const r = await run(args.cw4d, ['convert', path.join(miratope, source), '-o', out]);
+      ok(r.code === 0 && fs.existsSync(out), `cw4d convert ${source} -o ${name} exited ${r.code}: ${r.stderr.trim()}`);
+      return out;
+    };
+    const g4tf = await convert('convex uniform/Runcitruncated tesseract.off', 'runcitruncated-tesseract.g4tf');
+    const g4b = await convert('convex uniform/Bitruncated icositetrachoron.off', 'bitruncated-24-cell.g4b');
+    const bytes = fs.readFileSync(g4b);
+    ok(bytes.subarray(0, 4).toString('latin1') === 'G4MF' && bytes.includes(0) && bytes.some((b) => b >= 0x80),
+      `${g4b} is not binary G4MF (magic, zero bytes and bytes >= 0x80 expected)`);
+    const foreign = path.join(files, 'tesseract-two-surfaces.g4b');
+    fs.copyFileSync(path.join(samples, 'tesseract-two-surfaces.g4b'), foreign);
+    const badJson = path.join(files, 'broken.g4tf');
+    const text = fs.readFileSync(g4tf);
+    fs.writeFileSync(badJson, text.subarray(0, Math.floor(text.length / 2)));
+    const badBinary = path.join(files, 'truncated.g4b');
+    fs.writeFileSync(badBinary, bytes.subarray(0, Math.floor(bytes.length / 2)));
+
+    const { page: p, log: plog } = await openPage(desktop, base);
+    try {
+      // The whole model as the page read it against `cw4d info` of the same file, then the
+      // section at two offsets against `cw4d slice` of the same file.
+      const sameModel = async (file) => {
+        const name = path.basename(file);
+        // Loaded, or refused with an error line (said at once, not after a timeout).
+        await p.waitForFunction((m) => (window.cw4dViewer.state().model === m && window.cw4dViewer.ready) ||
+          document.querySelector('#status').classList.contains('error'), `file:${name}`, { timeout: READY, polling: 50 });
+        const refused = await p.locator('#status').evaluate((e) => (e.classList.contains('error') ? e.textContent.trim() : ''));
+        ok(!refused, `opening ${name} shows the error '${refused}'`);
+        const s = await waitModel(p, `file:${name}`);
+        const r = await run(args.cw4d, ['info', file, '--json']);
+        ok(r.code === 0, `cw4d info ${file} exited ${r.code}: ${r.stderr.trim()}`);
+        const native = JSON.parse(r.stdout).fvector;
+        const modelinfo = (await p.locator('#modelinfo').textContent()).trim();
+        ok(modelinfo.startsWith(`${name}: (${native.join(', ')})`),
+          `#modelinfo '${modelinfo}', cw4d info f-vector (${native})`);
+        const status = await p.locator('#status').evaluate((e) => ({ cls: e.className, text: e.textContent.trim() }));
+        ok(!/\berror\b/.test(status.cls), `#status after opening ${name}: '${status.text}'`);
+        const picked = await p.locator('select#model').evaluate((e) => e.selectedOptions[0] ? e.selectedOptions[0].textContent : '');
+        ok(picked === name, `select#model shows '${picked}' for ${name}`);
+        await frames(p);
+        await compareWithNative(args, tmp, p, `${name} as opened`, file);
+        await setOffset(p, -0.2);
+        await compareWithNative(args, tmp, p, `${name} at d = -0.2 r`, file);
+        return s;
+      };
+      await p.locator('input#file').setInputFiles(g4tf);
+      await sameModel(g4tf);
+      await screenshot(args, p, 'viewer-g4tf.png');
+      await dropFile(p, g4b);
+      await sameModel(g4b);
+      await focusView(p);
+      for (const k of ['Digit4', 'Digit5', 'Digit6']) await p.keyboard.press(k);
+      await frames(p);
+      await compareWithNative(args, tmp, p, 'bitruncated-24-cell.g4b turned', g4b);
+      await screenshot(args, p, 'viewer-g4b.png');
+      await dropFile(p, foreign);
+      await sameModel(foreign);
+      // Written without cw4d's code, the file is the tesseract [-1, 1]^4: the built-in's section.
+      await compareWithNative(args, tmp, p, 'tesseract-two-surfaces.g4b against the built-in tesseract', 'tesseract');
+
+      // Bad files: one error line, the native CLI's message for the same bytes; the model
+      // shown stays.
+      for (const [file, how] of [[badJson, 'picker'], [badBinary, 'drop']]) {
+        const name = path.basename(file);
+        const before = await state(p);
+        if (how === 'picker') await p.locator('input#file').setInputFiles(file);
+        else await dropFile(p, file);
+        const shown = await waitError(p);
+        ok(/\berror\b/.test(shown.cls) && shown.text.includes(name) && !shown.text.includes('\n'),
+          `#status after the bad ${name} (${how}): class '${shown.cls}', '${shown.text}'`);
+        const native = await nativeError(args, file);
+        ok(native.code !== 0 && native.lines.length === 1 && native.lines[0].endsWith(shown.text),
+          `${name}: the page says '${shown.text}', cw4d info exits ${native.code} with '${native.lines.join(' | ')}'`);
+        if (how === 'drop') await screenshot(args, p, 'viewer-g4mf-error.png');
+        const after = await state(p);
+        ok(after.model === before.model, `the bad ${name} replaced the model (${before.model} -> ${after.model})`);
+        await compareWithNative(args, tmp, p, `${before.model} after the bad ${name}`, foreign);
+      }
+      // A good file after a bad one clears the error.
+      await p.locator('input#file').setInputFiles(g4tf);
+      await waitModel(p, `file:${path.basename(g4tf)}`);
+      const cleared = await p.locator('#status').evaluate((e) => e.className);
+      ok(!/\berror\b/.test(cleared), `#status keeps the error after ${path.basename(g4tf)} opened`);
+      ok(plog.errors.length === 0, `console errors: ${plog.errors.join(' | ')}`);
+    } finally {
+      await p.close();
+    }
+  }, 240);
 
   // 7. The spec / Coxeter-diagram box.
   await check('7 the Coxeter box: an invalid diagram is an error line, x4o3o3x loads and clears it', async () => {
