@@ -182,7 +182,7 @@ configure_and_build() {
 
 # --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
 # CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 30 s per
-# target, nine targets). Build directories: build-asan/ and
+# target, nine targets, CW4D_JOBS of them at a time). Build directories: build-asan/ and
 # build-fuzz/ (CW4D_ASAN_DIR, CW4D_FUZZ_DIR).
 SANITIZE_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 
@@ -227,8 +227,22 @@ run_sanitizer_suite() {
   return "$status"
 }
 
+fuzz_one() {  # DIR TARGET SECONDS: one libFuzzer run, its log in DIR/fuzz_TARGET.log
+  local dir="$1" target="$2" seconds="$3" timeout=10
+  # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
+  mkdir -p "$dir/corpus-$target"
+  # (a command line may legitimately run for seconds, and far slower instrumented: `info` of an
+  # 8-dimensional built-in such as cube:8 loads, validates and measures 5 x 80640 simplices,
+  # 9-15 s per run here, 0.4 s in a release build; so 60 s for cli, room for a loaded machine)
+  [[ "$target" == cli ]] && timeout=60
+  "$dir/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$dir/crash-$target-" "$dir/corpus-$target" \
+    "fuzz/corpus/$target" 2>"$dir/fuzz_$target.log"
+}
+
+
 run_fuzz_smoke() {
-  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-30}" target work timeout
+  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-30}" target
   [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "CW4D_FUZZ_SECONDS must be a positive integer, got '$seconds'"
   discard_stale_cache "$dir" clang++
   log "configuring the libFuzzer targets (clang) in $dir/"
@@ -237,21 +251,31 @@ run_fuzz_smoke() {
   cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCW4D_FUZZ_CLI=ON >&2 || return 1
   cmake --build "$dir" -j "$JOBS" >&2 || return 1
+  # Two runs at a time on two jobs (CW4D_JOBS at a time), each with its own log and status file.
+  local running=0 failed=()
   for target in off g4mf scene spec nesting wythoff cli texture view; do
-    # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
-    work="$dir/corpus-$target"
-    mkdir -p "$work"
-    log "fuzzing $target for ${seconds}s"
-    # (a command line may legitimately run for seconds, and far slower instrumented: `info` of an
-    # 8-dimensional built-in such as cube:8 loads, validates and measures 5 x 80640 simplices,
-    # 9-15 s per run here, 0.4 s in a release build; so 60 s for cli, room for a loaded machine)
-    timeout=10
-    [[ "$target" == cli ]] && timeout=60
-    "$dir/fuzz_$target" -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 \
-      -print_final_stats=1 -artifact_prefix="$dir/crash-$target-" "$work" "fuzz/corpus/$target" \
-      2>"$dir/fuzz_$target.log" || { tail -n 40 "$dir/fuzz_$target.log" >&2; return 1; }
-    grep -E '^stat::number_of_executed_units' "$dir/fuzz_$target.log" | sed "s/^/cw4d: fuzz_$target /" >&2
+    if ((running >= JOBS)); then wait -n || true; running=$((running - 1)); fi
+    rm -f "$dir/fuzz_$target.rc"
+    (
+      rc=0
+      fuzz_one "$dir" "$target" "$seconds" || rc=$?
+      echo "$rc" >"$dir/fuzz_$target.rc"
+    ) &
+    running=$((running + 1))
   done
+  wait
+  for target in off g4mf scene spec nesting wythoff cli texture view; do
+    if [[ "$(cat "$dir/fuzz_$target.rc" 2>/dev/null)" == 0 ]]; then
+      grep -E '^stat::number_of_executed_units' "$dir/fuzz_$target.log" | sed "s/^/cw4d: fuzz_$target /" >&2
+    else
+      failed+=("$target")
+      tail -n 40 "$dir/fuzz_$target.log" >&2
+    fi
+  done
+  if ((${#failed[@]} > 0)); then
+    log "fuzzing FAILED: ${failed[*]} (logs and crash inputs in $dir/)"
+    return 1
+  fi
   log "fuzz runs clean"
 }
 
