@@ -478,7 +478,7 @@ export async function start(createCw4d, config = {}) {
     return true;
   };
   // A model file's contents: nOFF text (a string) or the bytes of a G4MF file (.g4tf, .g4b).
-  const loadText = (contents, name) => {
+  const loadContents = (contents, name) => {
     const next = new core.Model();
     const err = typeof contents === 'string' ? next.loadOff(contents, name) : next.loadG4mf(contents, name);
     if (err) {
@@ -754,7 +754,7 @@ export async function start(createCw4d, config = {}) {
   const G4MF = /\.(g4tf|g4b)$/i;
   const openFile = async (file) => {
     try {
-      loadText(G4MF.test(file.name) ? new Uint8Array(await file.arrayBuffer()) : await file.text(), file.name);
+      loadContents(G4MF.test(file.name) ? new Uint8Array(await file.arrayBuffer()) : await file.text(), file.name);
     } catch (err) {
       status(`${file.name}: cannot read the file (${err.message})`, true, 'file');
     }
@@ -826,7 +826,7 @@ export async function start(createCw4d, config = {}) {
   window.cw4dViewer = hook;
 
   if (config.off) {
-    loadText(config.off, config.name || 'model.4off');
+    loadContents(config.off, config.name || 'model.4off');
   } else if (!loadSpec(initial.model, 'url')) {
     const why = $('status').textContent;
     loadSpec(DEFAULT_MODEL, 'url');

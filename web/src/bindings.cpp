@@ -115,19 +115,13 @@ constexpr UnavailableFamily kUnavailable[] = {
     {"glome:R,N", "convex polytope inscribed in the 3-sphere", kNoCgal},
 };
 
-// The class of a JavaScript value as Object.prototype.toString names it ("Uint8Array", ...).
-std::string js_class(const val& v) {
-  const std::string tag =
-      val::global("Object")["prototype"]["toString"].call<std::string>("call", v);
-  return tag.size() > 9 ? tag.substr(8, tag.size() - 9) : tag;  // "[object NAME]"
-}
-
 // The bytes of a Uint8Array or an ArrayBuffer, copied into the wasm heap as they are; nullopt
 // for any other value.
 std::optional<std::string> to_bytes(const val& data) {
-  const std::string cls = js_class(data);
-  if (cls != "Uint8Array" && cls != "ArrayBuffer") return std::nullopt;
-  const val bytes = cls == "Uint8Array" ? data : val::global("Uint8Array").new_(data);
+  const val u8 = val::global("Uint8Array");
+  const bool view = data.instanceof (u8);
+  if (!view && !data.instanceof (val::global("ArrayBuffer"))) return std::nullopt;
+  const val bytes = view ? data : u8.new_(data);
   std::string out(bytes["length"].as<std::size_t>(), '\0');
   // No allocation between the view's making and its use: the heap cannot move under it.
   val(emscripten::typed_memory_view(out.size(), reinterpret_cast<std::uint8_t*>(out.data())))
