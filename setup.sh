@@ -7,8 +7,8 @@
 #                     with the tests, benchmarks and Python module on, and runs the test suite
 #                     (ctest), the Python module's tests (pytest), the C++ suite again under
 #                     ASan+UBSan in build-asan/, the browser test of the web viewer, then each
-#                     libFuzzer target for 30 s (build-fuzz/); every stage runs, a verdict per
-#                     stage is printed, and the exit status is the first failure's
+#                     libFuzzer target for 30 s (built in build-asan/ too); every stage runs, a
+#                     verdict per stage is printed, and the exit status is the first failure's
 # Both also build the web viewer (WebAssembly, emscripten) into build-web/ when emscripten is
 # installed (CW4D_WEB=0 skips it); `./setup.sh test` installs emscripten, the plain run does only
 # with CW4D_WEB=1 (`CW4D_WEB=1 ./setup.sh`: 33 more packages, 185 MB to fetch, 1.2 GB installed).
@@ -59,6 +59,7 @@ TEST_PACKAGES=(
   python3-vtk9
   nodejs
   clang
+  lld
   clang-format
   libclang-rt-14-dev
   libosmesa6-dev
@@ -181,10 +182,14 @@ configure_and_build() {
 }
 
 # --- (c) test mode only: the suite under ASan+UBSan, and short libFuzzer runs ---------------------
+# One instrumented clang build in build-asan/ (CW4D_ASAN_DIR) serves both: the test suite and the
+# libFuzzer targets of fuzz/ (-DCW4D_BUILD_FUZZ=ON: every library also carries libFuzzer's 8-bit
+# edge counters), so the libraries are compiled once, not twice. Linked by lld.
 # CW4D_SANITIZE=0 skips the sanitizer suite, CW4D_FUZZ_SECONDS=0 the fuzz runs (default 30 s per
-# target, nine targets, CW4D_JOBS of them at a time). Build directories: build-asan/ and
-# build-fuzz/ (CW4D_ASAN_DIR, CW4D_FUZZ_DIR).
+# target, nine targets, CW4D_JOBS of them at a time).
 SANITIZE_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+ASAN_DIR="${CW4D_ASAN_DIR:-build-asan}"
+FUZZ_TARGETS=(off g4mf scene spec nesting wythoff cli texture view)
 
 discard_stale_cache() {  # DIR [COMPILER]: drop a CMake cache made elsewhere or with another compiler
   local cache="$1/CMakeCache.txt" gen home cxx
@@ -192,43 +197,54 @@ discard_stale_cache() {  # DIR [COMPILER]: drop a CMake cache made elsewhere or 
   gen="$(sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$cache")"
   home="$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cache")"
   cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$cache")"
-  if [[ "$gen" != "Ninja" || ( "$home" != "$PWD" && "$home" != "$PWD/fuzz" ) ||
-        ( -n "${2:-}" && "$cxx" != *"$2" ) ]]; then
+  if [[ "$gen" != "Ninja" || "$home" != "$PWD" || ( -n "${2:-}" && "$cxx" != *"$2" ) ]]; then
     log "discarding stale CMake cache in $1/"
     rm -rf "$cache" "$1/CMakeFiles"
   fi
 }
 
-run_sanitizer_suite() {
-  local dir="${CW4D_ASAN_DIR:-build-asan}" status=0 web=()
+fuzz_enabled() { [[ "${CW4D_FUZZ_SECONDS:-30}" != 0 ]]; }
+
+# Configures build-asan/ and builds TARGET... (nothing: everything). The fuzz targets and the
+# coverage instrumentation are in only when the fuzz runs are on.
+build_instrumented() {
+  local web=() fuzz=OFF link="$SANITIZE_FLAGS -fuse-ld=lld"
   mapfile -t web < <(web_options)
-  discard_stale_cache "$dir" clang++
-  log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build (clang) in $dir/"
+  # (-DCW4D_BUILD_FUZZ=ON adds coverage counters to the libraries and the fuzz targets)
+  fuzz_enabled && fuzz=ON
+  discard_stale_cache "$ASAN_DIR" clang++
+  log "configuring the AddressSanitizer + UndefinedBehaviorSanitizer build (clang) in $ASAN_DIR/"
   # -g1 (line tables only): sanitizer reports keep function names and file:line, while each
   # object is ~3.5x smaller and compiles ~1.6x faster than with -g (bench/RESULTS.md, CI time).
   # These flags replace CMake's RelWithDebInfo default (-O2 -g -DNDEBUG): without NDEBUG the
   # assert()s on cw4d's internal invariants (and Eigen's index checks) are on in this build.
   # clang, not g++: g++ 12 compiles this instrumented build about twice as slowly (the
-  # Release build stays on g++, so both compilers see the code).
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    -DCW4D_BUILD_BENCH=OFF \
-    -DCW4D_BUILD_PYTHON=OFF "${web[@]}" \
+  # Release build stays on g++, so both compilers see the code); clang is also what libFuzzer needs.
+  cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+    -DCW4D_BUILD_BENCH=OFF -DCW4D_BUILD_PYTHON=OFF -DCW4D_BUILD_FUZZ=$fuzz "${web[@]}" \
     "-DCMAKE_CXX_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
-    "-DCMAKE_EXE_LINKER_FLAGS=$SANITIZE_FLAGS" "-DCMAKE_SHARED_LINKER_FLAGS=$SANITIZE_FLAGS" >&2 ||
+    "-DCMAKE_EXE_LINKER_FLAGS=$link" "-DCMAKE_SHARED_LINKER_FLAGS=$link" >&2 ||
     return 1
-  cmake --build "$dir" -j "$JOBS" >&2 || return 1
+  local targets=()
+  (($# > 0)) && targets=(--target "$@")
+  cmake --build "$ASAN_DIR" -j "$JOBS" "${targets[@]}" >&2
+}
+
+run_sanitizer_suite() {
+  local status=0
+  build_instrumented || return 1
   # The degeneracy stress test runs 5% of its planes here (each section costs ~10x under ASan);
   # the normal suite above runs all of them.
   log "testing under ASan+UBSan"
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
     UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" CW4D_STRESS_FRACTION=0.05 \
-    ctest --test-dir "$dir" --output-on-failure -j "$JOBS" || status=$?
+    ctest --test-dir "$ASAN_DIR" --output-on-failure -j "$JOBS" || status=$?
   if ((status == 0)); then log "sanitizer tests passed"; else log "sanitizer tests FAILED (ctest exit $status)"; fi
   return "$status"
 }
 
-fuzz_one() {  # DIR TARGET SECONDS: one libFuzzer run, its log in DIR/fuzz_TARGET.log
-  local dir="$1" target="$2" seconds="$3" timeout=10
+fuzz_one() {  # TARGET SECONDS: one libFuzzer run, its log in build-asan/fuzz/fuzz_TARGET.log
+  local target="$1" seconds="$2" dir="$ASAN_DIR/fuzz" timeout=10
   # New inputs go to a scratch directory: the seed corpus in fuzz/corpus/ stays as committed.
   mkdir -p "$dir/corpus-$target"
   # (a command line may legitimately run for seconds, and far slower instrumented: `info` of an
@@ -240,43 +256,40 @@ fuzz_one() {  # DIR TARGET SECONDS: one libFuzzer run, its log in DIR/fuzz_TARGE
     "fuzz/corpus/$target" 2>"$dir/fuzz_$target.log"
 }
 
-
 run_fuzz_smoke() {
-  local dir="${CW4D_FUZZ_DIR:-build-fuzz}" seconds="${CW4D_FUZZ_SECONDS:-30}" target
+  local seconds="${CW4D_FUZZ_SECONDS:-30}" target status=0 running=0 failed=()
   [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || die "CW4D_FUZZ_SECONDS must be a positive integer, got '$seconds'"
-  discard_stale_cache "$dir" clang++
-  log "configuring the libFuzzer targets (clang) in $dir/"
-  # -O1 -g1 as in the sanitizer build: every library is compiled here (fuzz_cli links them all),
-  # and line tables are all a crash report needs; NDEBUG is not set, so the core's asserts run.
-  cmake -S fuzz -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCW4D_FUZZ_CLI=ON >&2 || return 1
-  cmake --build "$dir" -j "$JOBS" >&2 || return 1
-  # Two runs at a time on two jobs (CW4D_JOBS at a time), each with its own log and status file.
-  local running=0 failed=()
-  for target in off g4mf scene spec nesting wythoff cli texture view; do
+  # After the sanitizer suite this only links what is missing; without it (CW4D_SANITIZE=0) it
+  # builds the fuzz targets and the libraries they need.
+  build_instrumented "${FUZZ_TARGETS[@]/#/fuzz_}" || return 1
+  log "fuzzing ${FUZZ_TARGETS[*]} for ${seconds}s each, $JOBS at a time"
+  for target in "${FUZZ_TARGETS[@]}"; do
     if ((running >= JOBS)); then wait -n || true; running=$((running - 1)); fi
-    rm -f "$dir/fuzz_$target.rc"
+    rm -f "$ASAN_DIR/fuzz/fuzz_$target.rc"
     (
       rc=0
-      fuzz_one "$dir" "$target" "$seconds" || rc=$?
-      echo "$rc" >"$dir/fuzz_$target.rc"
+      fuzz_one "$target" "$seconds" || rc=$?
+      echo "$rc" >"$ASAN_DIR/fuzz/fuzz_$target.rc"
     ) &
     running=$((running + 1))
   done
   wait
-  for target in off g4mf scene spec nesting wythoff cli texture view; do
-    if [[ "$(cat "$dir/fuzz_$target.rc" 2>/dev/null)" == 0 ]]; then
-      grep -E '^stat::number_of_executed_units' "$dir/fuzz_$target.log" | sed "s/^/cw4d: fuzz_$target /" >&2
+  for target in "${FUZZ_TARGETS[@]}"; do
+    if [[ "$(cat "$ASAN_DIR/fuzz/fuzz_$target.rc" 2>/dev/null)" == 0 ]]; then
+      grep -E '^stat::number_of_executed_units' "$ASAN_DIR/fuzz/fuzz_$target.log" |
+        sed "s/^/cw4d: fuzz_$target /" >&2
     else
       failed+=("$target")
-      tail -n 40 "$dir/fuzz_$target.log" >&2
+      tail -n 40 "$ASAN_DIR/fuzz/fuzz_$target.log" >&2
     fi
   done
   if ((${#failed[@]} > 0)); then
-    log "fuzzing FAILED: ${failed[*]} (logs and crash inputs in $dir/)"
-    return 1
+    log "fuzzing FAILED: ${failed[*]} (logs and crash inputs in $ASAN_DIR/fuzz/)"
+    status=1
+  else
+    log "fuzz runs clean"
   fi
-  log "fuzz runs clean"
+  return "$status"
 }
 
 # --- (b') test mode only: readers the tests open exported files with ----------------------------
@@ -405,7 +418,7 @@ if [[ "$MODE" == test ]]; then
   stage "pytest" run_python_tests
   if [[ "${CW4D_SANITIZE:-1}" != 0 ]]; then stage "ASan+UBSan ctest" run_sanitizer_suite; fi
   stage "browser test" run_browser_test
-  if [[ "${CW4D_FUZZ_SECONDS:-30}" != 0 ]]; then stage "fuzz" run_fuzz_smoke; fi
+  if fuzz_enabled; then stage "fuzz" run_fuzz_smoke; fi
   for verdict in "${verdicts[@]}"; do log "$verdict"; done
   if ((status == 0)); then log "every test passed"; else log "tests FAILED"; fi
   exit "$status"
