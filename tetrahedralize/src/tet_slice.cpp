@@ -445,7 +445,7 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // claim stays), the owning slots number the vertices in slot order, and every slot reads its
   // owner's number. The same for the cut cells (their normals are computed together below).
   // (Scratch only grows: no value-initialisation per slice.)
-  grow(sc.edge_owner, ne);
+  grow(sc.edge_owner, ne + 1);
   grow(sc.cell_owner, mesh.cell_count());
   grow(sc.cell_n3, 3 * mesh.cell_count());
   const std::size_t nslot = 4 * ncut;
@@ -468,7 +468,9 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
   // its case (one triangle or a quad), and the claims of its corner slots.
   std::size_t n3 = 0, n4 = 0;
   std::uint32_t first = 0;
-  bool stale = false;  // an edge id out of range (no branch)
+  // An edge id out of range claims the spare entry owner[ne] (no branch per slot): it is
+  // noticed after the pass by that entry having lost its mark.
+  owner[ne] = ~0u;
   for (std::size_t i = 0; i < ncut; ++i) {
     const std::uint32_t t = cut[i] >> 4;
     const IndexedCase& ic = table[cut[i] & 15u];
@@ -483,15 +485,13 @@ bool cut_indexed(const TetMesh& mesh, const TetMesh& index, const Prepared& pr, 
     n4 += tris == 2;
     const auto& te = tet_edges[t];
     for (std::size_t k = 0; k < 4; ++k) {
-      const std::uint32_t e0 = te[ic.local[k]];
-      const std::uint32_t e = e0 < ne ? e0 : 0u;
-      stale |= e0 >= ne;
+      const std::uint32_t e = std::min(te[ic.local[k]], static_cast<std::uint32_t>(ne));
       slot_edge[4 * i + k] = e;
       owner[e] = static_cast<std::uint32_t>(4 * i + k);
     }
   }
   const std::size_t tris = first;
-  if (stale) return false;
+  if (owner[ne] != ~0u) return false;  // an edge id out of range: index a copy
   out.triangles.resize(3 * tris);
   out.normals.resize(3 * tris);
   out.uvw.resize(want_uvw ? 9 * tris : 0);
