@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <bit>
 #include <random>
 #include <vector>
 
@@ -141,4 +142,48 @@ TEST_CASE("atlas: placement, merging and bad input", "[atlas]") {
   CHECK(critical_offsets(c, vec({1, 0, 0, 0}), AffineTransform::identity(4)).size() == 3);
   CHECK_THROWS_AS(section_atlas(make_cube(4), vec({0, 0, 0, 0})), InputError);
   CHECK_THROWS_AS(section_atlas(make_cube(4), vec({1, 0, 0})), InputError);
+}
+
+TEST_CASE("atlas: where the plane only touches the model, the contact's f-vector", "[atlas]") {
+  // The face of the cube [-1, 1]^4 on which n.x is largest, for n with m nonzero components
+  // (of either sign, permuted, placed by a rotation), is a (4 - m)-cube: 2^d vertices,
+  // d 2^(d-1) edges and C(d, 2) 2^(d-2) squares for d = 4 - m. For m = 1 it is a whole cell,
+  // which section() returns: no contact then; for m >= 2 the section is empty.
+  const Complex t = make_cube(4);
+  const F cube_face[5] = {{}, {8, 12, 6}, {4, 4, 1}, {2, 1, 0}, {1, 0, 0}};
+  const AffineTransform turn = AffineTransform::rotation(4, 0, 3, 0.3);
+  for (int mask = 1; mask < 16; ++mask) {
+    const int m = std::popcount(static_cast<unsigned>(mask));
+    Eigen::VectorXd n(4);
+    for (int j = 0; j < 4; ++j) n[j] = (mask >> j & 1) ? (j % 2 ? -1.0 : 1.0) : 0.0;
+    for (const bool placed : {false, true}) {
+      INFO("mask " << mask << (placed ? " placed" : ""));
+      const Atlas a = placed ? section_atlas(t, turn.linear() * n, turn) : section_atlas(t, n);
+      REQUIRE(a.critical.size() == static_cast<std::size_t>(m + 1));
+      for (const std::size_t end : {std::size_t{0}, a.critical.size() - 1}) {
+        const AtlasSection& c = a.critical[end];
+        if (m == 1) {
+          CHECK(c.fvector == cube_face[1]);
+          CHECK(c.contact.empty());
+        } else {
+          CHECK(c.fvector == F{0, 0, 0});
+          CHECK(c.contact == cube_face[m]);
+        }
+      }
+      // Between the ends every critical section is a solid's: no contact.
+      for (std::size_t i = 1; i + 1 < a.critical.size(); ++i) {
+        CHECK(a.critical[i].fvector != F{0, 0, 0});
+        CHECK(a.critical[i].contact.empty());
+      }
+      for (const auto& i : a.intervals) CHECK(i.section.contact.empty());
+    }
+  }
+  // In R^3: the cube along (1, 1, 0) touches in an edge, the octahedron along (1, 2, 3) in a
+  // vertex (counts of ranks 0 and 1).
+  const Atlas cube = section_atlas(make_cube(3), vec({1, 1, 0}));
+  CHECK(cube.critical.front().contact == F{2, 1});
+  CHECK(cube.critical.back().contact == F{2, 1});
+  const Atlas octa = section_atlas(make_orthoplex(3), vec({1, 2, 3}));
+  CHECK(octa.critical.front().contact == F{1, 0});
+  CHECK(octa.critical.back().contact == F{1, 0});
 }

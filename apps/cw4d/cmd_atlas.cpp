@@ -90,9 +90,12 @@ void run_atlas(AtlasSettings& s) {
     j["tolerance"] = atlas.tolerance;
     j["critical_offsets"] = atlas.critical_offsets;
     j["critical_sections"] = nlohmann::ordered_json::array();
-    for (const auto& c : atlas.critical)
-      j["critical_sections"].push_back(
-          {{"offset", c.offset}, {"f_vector", c.fvector}, {"degenerate", true}});
+    for (const auto& c : atlas.critical) {
+      nlohmann::ordered_json x = {
+          {"offset", c.offset}, {"f_vector", c.fvector}, {"degenerate", true}};
+      if (!c.contact.empty()) x["contact_f_vector"] = c.contact;
+      j["critical_sections"].push_back(std::move(x));
+    }
     j["intervals"] = nlohmann::ordered_json::array();
     for (const auto& i : atlas.intervals)
       j["intervals"].push_back({{"from", i.from},
@@ -108,8 +111,11 @@ void run_atlas(AtlasSettings& s) {
             << atlas.intervals.size() << " intervals (heights within " << brief(atlas.tolerance)
             << " merged)\n";
   for (std::size_t k = 0; k < atlas.critical_offsets.size(); ++k) {
+    const AtlasSection& c = atlas.critical[k];
     std::cout << "  d = " << brief(atlas.critical_offsets[k]) << "  passes a vertex: f-vector "
-              << fvector_text(atlas.critical[k].fvector) << " (degenerate)\n";
+              << fvector_text(c.fvector);
+    if (!c.contact.empty()) std::cout << ", touching the model in " << fvector_text(c.contact);
+    std::cout << " (degenerate)\n";
     if (k < atlas.intervals.size()) {
       const auto& i = atlas.intervals[k];
       std::cout << "  " << brief(i.from) << " < d < " << brief(i.to) << "  f-vector "
@@ -147,9 +153,12 @@ void add_atlas_command(CLI::App& app, Commands& commands) {
       "two consecutive ones the section's combinatorics do not change: each open interval is\n"
       "listed with the f-vector of its section (vertices, edges, faces of a 4D model's cut),\n"
       "cut at the interval's midpoint. The sections at the critical offsets themselves are\n"
-      "listed too, flagged degenerate (the plane passes a vertex).\n"
+      "listed too, flagged degenerate (the plane passes a vertex); where that section is\n"
+      "empty, the plane only touches the model and the f-vector of what lies in the plane\n"
+      "(a vertex (1, 0, 0), an edge (2, 1, 0), a square (4, 4, 1)) is given as the contact.\n"
       "JSON: {\"critical_offsets\": [...], \"critical_sections\": [{\"offset\", \"f_vector\",\n"
-      "\"degenerate\"}], \"intervals\": [{\"from\", \"to\", \"offset\", \"f_vector\"}], ...}.\n"
+      "\"degenerate\", \"contact_f_vector\" (when empty)}], \"intervals\": [{\"from\", \"to\",\n"
+      "\"offset\", \"f_vector\"}], ...}.\n"
       "At most 20000 critical offsets (one cut each).\n"
       "Examples:\n"
       "  cw4d atlas tesseract --normal 1,1,1,1\n"

@@ -305,6 +305,7 @@ void bind_section(py::module_& m) {
           x["offset"] = c.offset;
           x["f_vector"] = fv(c.fvector);
           x["degenerate"] = true;
+          if (!c.contact.empty()) x["contact_f_vector"] = fv(c.contact);
           critical.append(x);
         }
         for (std::size_t i = 0; i < a.intervals.size(); ++i) {
@@ -325,7 +326,8 @@ void bind_section(py::module_& m) {
       py::arg("sections") = false,
       "The section atlas along `normal` (any length; offsets along the unit normal): a dict "
       "with 'critical_offsets' (the vertex heights, sorted, heights within 1e-9 of the model's "
-      "radius merged), 'critical_sections' (offset, f_vector, degenerate=True at each), "
+      "radius merged), 'critical_sections' (offset, f_vector, degenerate=True at each, and "
+      "contact_f_vector, the f-vector of what lies in the plane, where the section is empty), "
       "'intervals' (from, to, offset = the midpoint, f_vector; with sections=True also "
       "'section', the Section cut there), 'normal' and 'tolerance'. The GIL is released while "
       "it cuts.");

@@ -66,6 +66,14 @@ def test_atlas_tesseract_diagonal():
                                                        [4, 6, 4]]
     assert a["critical_sections"][2]["f_vector"] == [6, 12, 8]
     assert all(c["degenerate"] for c in a["critical_sections"])
+    # At either end the plane only touches the tesseract, in one vertex.
+    ends = [a["critical_sections"][0], a["critical_sections"][-1]]
+    assert [c["f_vector"] for c in ends] == [[0, 0, 0], [0, 0, 0]]
+    assert [c["contact_f_vector"] for c in ends] == [[1, 0, 0], [1, 0, 0]]
+    assert all("contact_f_vector" not in c for c in a["critical_sections"][1:-1])
+    # Along (1, 1, 0, 0) it touches in a square.
+    b = cw4d.atlas(cw4d.load_model("tesseract"), [1, 1, 0, 0])
+    assert b["critical_sections"][0]["contact_f_vector"] == [4, 4, 1]
 
 
 def test_atlas_sections_are_the_cuts():
@@ -87,6 +95,7 @@ def test_atlas_matches_cli(cli, spec, normal):
     assert [i["f_vector"] for i in got["intervals"]] == [i["f_vector"] for i in a["intervals"]]
     assert [(i["from"], i["to"]) for i in got["intervals"]] == [
         (i["from"], i["to"]) for i in a["intervals"]]
+    assert got["critical_sections"] == a["critical_sections"]
 
 
 def test_atlas_cli_errors(cli):

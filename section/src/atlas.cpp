@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "cw4d/complex/error.hpp"
@@ -18,6 +19,67 @@ std::vector<std::size_t> section_fvector(const Section& s, int model_dim) {
   return f;
 }
 
+// The counts of the model's elements of ranks 0..f_size-1 that lie in the plane at critical
+// offset c[i]: the vertices whose nearest critical offset is c[i] (critical offsets are the
+// vertex heights, merged), then every element all of whose boundary lies in it.
+std::vector<std::size_t> contact_fvector(const Complex& model, const std::vector<double>& height,
+                                         const std::vector<double>& c, std::size_t i,
+                                         std::size_t f_size) {
+  std::vector<std::size_t> f(f_size, 0);
+  std::vector<char> in(height.size(), 0);
+  for (std::size_t v = 0; v < height.size(); ++v) {
+    const auto it = std::lower_bound(c.begin(), c.end(), height[v]);
+    std::size_t nearest = static_cast<std::size_t>(it - c.begin());
+    if (nearest == c.size() ||
+        (nearest > 0 && height[v] - c[nearest - 1] <= c[nearest] - height[v]))
+      --nearest;
+    in[v] = nearest == i;
+    f[0] += static_cast<std::size_t>(in[v]);
+  }
+  for (std::size_t k = 1; k < f_size && static_cast<int>(k) <= model.top_rank(); ++k) {
+    const Incidence& rows = model.boundary(static_cast<int>(k));
+    std::vector<char> next(rows.size(), 0);
+    for (std::size_t e = 0; e < rows.size(); ++e) {
+      const auto ids = rows.ids(e);
+      next[e] = !ids.empty() &&
+                std::all_of(ids.begin(), ids.end(), [&](std::uint32_t b) { return in[b] != 0; });
+      f[k] += static_cast<std::size_t>(next[e]);
+    }
+    in.swap(next);
+  }
+  return f;
+}
+
+bool all_zero(const std::vector<std::size_t>& f) {
+  return std::all_of(f.begin(), f.end(), [](std::size_t x) { return x == 0; });
+}
+
+// The vertex heights n.x of the placed model along the unit normal, in vertex order.
+std::vector<double> vertex_heights(const Complex& model, const Eigen::VectorXd& unit,
+                                   const AffineTransform& model_to_world, double* radius) {
+  const Eigen::MatrixXd world =
+      (model_to_world.linear() * model.positions()).colwise() + model_to_world.translation();
+  std::vector<double> h(static_cast<std::size_t>(world.cols()));
+  double r = 0.0;
+  for (Eigen::Index v = 0; v < world.cols(); ++v) {
+    h[static_cast<std::size_t>(v)] = unit.dot(world.col(v));
+    r = std::max(r, world.col(v).norm());
+  }
+  if (radius) *radius = r;
+  return h;
+}
+
+// Atlas::critical[i].contact for each critical section that is empty.
+void add_contacts(const Complex& model, const AffineTransform& model_to_world, Atlas& atlas) {
+  std::vector<double> height;
+  for (std::size_t i = 0; i < atlas.critical.size(); ++i) {
+    AtlasSection& s = atlas.critical[i];
+    if (!all_zero(s.fvector)) continue;
+    if (height.empty()) height = vertex_heights(model, atlas.normal, model_to_world, nullptr);
+    s.contact = contact_fvector(model, height, atlas.critical_offsets, i, s.fvector.size());
+  }
+}
+
 }  // namespace
 
 std::vector<double> critical_offsets(const Complex& model, const Eigen::VectorXd& normal,
@@ -30,14 +92,8 @@ std::vector<double> critical_offsets(const Complex& model, const Eigen::VectorXd
     throw InputError("the placement acts on R^" + std::to_string(model_to_world.dim()) +
                      "; the model lives in R^" + std::to_string(n));
   const Eigen::VectorXd unit = Hyperplane::from(normal, 0.0).normal;
-  const Eigen::MatrixXd world =
-      (model_to_world.linear() * model.positions()).colwise() + model_to_world.translation();
-  std::vector<double> h(static_cast<std::size_t>(world.cols()));
   double radius = 0.0;
-  for (Eigen::Index v = 0; v < world.cols(); ++v) {
-    h[static_cast<std::size_t>(v)] = unit.dot(world.col(v));
-    radius = std::max(radius, world.col(v).norm());
-  }
+  std::vector<double> h = vertex_heights(model, unit, model_to_world, &radius);
   if (!std::isfinite(radius)) throw InputError("the placed model has a coordinate beyond range");
   std::sort(h.begin(), h.end());
   const double tol = atlas_merge_rel * radius;
@@ -89,25 +145,28 @@ Atlas section_atlas(const Complex& model, const Eigen::VectorXd& normal,
       return f;
     };
     for (std::size_t i = 0; i < c.size(); ++i) {
-      if (options.critical_sections) atlas.critical.push_back({c[i], fvector(layers[per * i])});
+      if (options.critical_sections) atlas.critical.push_back({c[i], fvector(layers[per * i]), {}});
       if (i + 1 == c.size()) break;
       const std::size_t k = per * i + per - 1;
-      atlas.intervals.push_back({c[i], c[i + 1], {offsets[k], fvector(layers[k])}});
+      atlas.intervals.push_back({c[i], c[i + 1], {offsets[k], fvector(layers[k]), {}}});
       if (options.keep_sections) atlas.sections.push_back(to_section(layers[k]));
     }
+    add_contacts(model, model_to_world, atlas);
     return atlas;
   }
   const auto cut = [&](double d) {
     return section(model, Hyperplane::from(atlas.normal, d), model_to_world);
   };
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (options.critical_sections) atlas.critical.push_back({c[i], section_fvector(cut(c[i]), n)});
+    if (options.critical_sections)
+      atlas.critical.push_back({c[i], section_fvector(cut(c[i]), n), {}});
     if (i + 1 == c.size()) break;
     const double mid = offsets[per * i + per - 1];
     Section s = cut(mid);
-    atlas.intervals.push_back({c[i], c[i + 1], {mid, section_fvector(s, n)}});
+    atlas.intervals.push_back({c[i], c[i + 1], {mid, section_fvector(s, n), {}}});
     if (options.keep_sections) atlas.sections.push_back(std::move(s));
   }
+  add_contacts(model, model_to_world, atlas);
   return atlas;
 }
 

@@ -26,6 +26,11 @@ inline constexpr double atlas_merge_rel = 1e-9;
 struct AtlasSection {
   double offset = 0.0;
   std::vector<std::size_t> fvector;
+  /// At a critical offset whose section is empty (the plane only touches the model, as at
+  /// either end of a convex model): the f-vector of the model's elements that lie in the plane,
+  /// ranks 0..n-2 as `fvector` (a vertex (1, 0, 0), an edge (2, 1, 0), a square (4, 4, 1)).
+  /// Empty otherwise: for a section that is not empty, and for every interval's section.
+  std::vector<std::size_t> contact;
 };
 
 /// An open interval (from, to) of offsets between two consecutive critical offsets; `section`
