@@ -19,37 +19,6 @@ std::vector<std::size_t> section_fvector(const Section& s, int model_dim) {
   return f;
 }
 
-// The counts of the model's elements of ranks 0..f_size-1 that lie in the plane at critical
-// offset c[i]: the vertices whose nearest critical offset is c[i] (critical offsets are the
-// vertex heights, merged), then every element all of whose boundary lies in it.
-std::vector<std::size_t> contact_fvector(const Complex& model, const std::vector<double>& height,
-                                         const std::vector<double>& c, std::size_t i,
-                                         std::size_t f_size) {
-  std::vector<std::size_t> f(f_size, 0);
-  std::vector<char> in(height.size(), 0);
-  for (std::size_t v = 0; v < height.size(); ++v) {
-    const auto it = std::lower_bound(c.begin(), c.end(), height[v]);
-    std::size_t nearest = static_cast<std::size_t>(it - c.begin());
-    if (nearest == c.size() ||
-        (nearest > 0 && height[v] - c[nearest - 1] <= c[nearest] - height[v]))
-      --nearest;
-    in[v] = nearest == i;
-    f[0] += static_cast<std::size_t>(in[v]);
-  }
-  for (std::size_t k = 1; k < f_size && static_cast<int>(k) <= model.top_rank(); ++k) {
-    const Incidence& rows = model.boundary(static_cast<int>(k));
-    std::vector<char> next(rows.size(), 0);
-    for (std::size_t e = 0; e < rows.size(); ++e) {
-      const auto ids = rows.ids(e);
-      next[e] = !ids.empty() &&
-                std::all_of(ids.begin(), ids.end(), [&](std::uint32_t b) { return in[b] != 0; });
-      f[k] += static_cast<std::size_t>(next[e]);
-    }
-    in.swap(next);
-  }
-  return f;
-}
-
 bool all_zero(const std::vector<std::size_t>& f) {
   return std::all_of(f.begin(), f.end(), [](std::size_t x) { return x == 0; });
 }
@@ -69,14 +38,48 @@ std::vector<double> vertex_heights(const Complex& model, const Eigen::VectorXd& 
   return h;
 }
 
-// Atlas::critical[i].contact for each critical section that is empty.
+// Atlas::critical[i].contact for each critical section that is empty: the counts of the
+// model's elements of ranks 0..n-2 that lie in that plane, for all of them in one pass over
+// the model. A vertex lies in the plane of its nearest critical offset (the critical offsets
+// are the vertex heights, merged); a higher element lies in a plane when its whole boundary
+// does.
 void add_contacts(const Complex& model, const AffineTransform& model_to_world, Atlas& atlas) {
-  std::vector<double> height;
-  for (std::size_t i = 0; i < atlas.critical.size(); ++i) {
+  const std::vector<double>& c = atlas.critical_offsets;
+  if (atlas.critical.size() != c.size() || c.empty()) return;
+  std::vector<char> wanted(c.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < c.size(); ++i) {
     AtlasSection& s = atlas.critical[i];
     if (!all_zero(s.fvector)) continue;
-    if (height.empty()) height = vertex_heights(model, atlas.normal, model_to_world, nullptr);
-    s.contact = contact_fvector(model, height, atlas.critical_offsets, i, s.fvector.size());
+    wanted[i] = 1, any = true;
+    s.contact.assign(s.fvector.size(), 0);
+  }
+  if (!any) return;
+  constexpr std::uint32_t none = ~std::uint32_t{0};
+  const std::vector<double> height = vertex_heights(model, atlas.normal, model_to_world, nullptr);
+  std::vector<std::uint32_t> level(height.size());
+  for (std::size_t v = 0; v < height.size(); ++v) {
+    std::size_t i =
+        static_cast<std::size_t>(std::lower_bound(c.begin(), c.end(), height[v]) - c.begin());
+    if (i == c.size() || (i > 0 && height[v] - c[i - 1] <= c[i] - height[v])) --i;
+    level[v] = static_cast<std::uint32_t>(i);
+    if (wanted[i]) ++atlas.critical[i].contact[0];
+  }
+  const std::size_t f_size = atlas.critical.front().fvector.size();
+  for (std::size_t k = 1; k < f_size && static_cast<int>(k) <= model.top_rank(); ++k) {
+    const Incidence& rows = model.boundary(static_cast<int>(k));
+    std::vector<std::uint32_t> next(rows.size(), none);
+    for (std::size_t e = 0; e < rows.size(); ++e) {
+      const auto ids = rows.ids(e);
+      if (ids.empty()) continue;
+      const std::uint32_t l = level[ids[0]];
+      if (l == none ||
+          !std::all_of(ids.begin(), ids.end(), [&](std::uint32_t b) { return level[b] == l; }))
+        continue;
+      next[e] = l;
+      if (wanted[l]) ++atlas.critical[l].contact[k];
+    }
+    level.swap(next);
   }
 }
 
