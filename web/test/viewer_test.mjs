@@ -630,6 +630,9 @@ async function runChecks(args, browser, base, tmp, downloads, bench) {
     ok(Array.isArray(initial.rotation) && initial.rotation.length === 16, 'state().rotation is not 16 numbers');
     const fv = (await page.locator('#fvector').textContent()).trim();
     ok(c.fvector.every((k) => fv.includes(String(k))), `#fvector '${fv}' does not show (${c.fvector})`);
+    // Every control fits the side panel's width: no horizontal scrollbar under it.
+    const panel = await page.locator('#panel').evaluate((e) => ({ scroll: e.scrollWidth, client: e.clientWidth }));
+    ok(panel.scroll <= panel.client, `#panel is ${panel.scroll} px wide inside ${panel.client} px`);
     await screenshot(args, page, 'viewer-whole.png');
   });
   if (!page) return;  // nothing else can run without the page
@@ -1129,6 +1132,8 @@ async function runChecks(args, browser, base, tmp, downloads, bench) {
       soft(box1 && box1.height >= 300, `with the panel open the canvas is ${box1 && box1.height} px tall`);
       const width1 = await p.evaluate(() => Math.max(document.documentElement.scrollWidth, document.body.scrollWidth));
       soft(width1 <= 390, `with the panel open the page is ${width1} px wide`);
+      const sheet = await p.locator('#panel').evaluate((e) => ({ scroll: e.scrollWidth, client: e.clientWidth }));
+      soft(sheet.scroll <= sheet.client, `the open sheet is ${sheet.scroll} px wide inside ${sheet.client} px`);
       await screenshot(args, p, 'viewer-phone.png');
       await p.locator('canvas#view').scrollIntoViewIfNeeded();
       const cdp = await phone.newCDPSession(p);
