@@ -18,6 +18,9 @@
 //            output alone, the floor of any sweep that writes every layer's arrays
 //   atlas    section_atlas along the sweep's normal, one atlas a round (so the count of one
 //            atlas is (ROUNDS = 3 minus ROUNDS = 1) / 2, not / 512)
+//   general  Slicer::slice over 256 degenerate planes (the general path): plane i is normal to
+//            coordinate axis i mod n through model vertex 37 i mod V, the kind of plane a viewer
+//            meets at d = 0 (every vertex and edge in the plane is cut exactly)
 // The count of one operation is (count at ROUNDS = 3 minus count at ROUNDS = 1) / 512: the
 // model's loading, compilation and the warm-up cancel out. Only API that both trees have is
 // used (newer entry points where the headers announce them), as in bench_compare.cpp.
@@ -56,11 +59,11 @@ bool set_tet_uvw(cw4d::TetSlicer& slicer, bool uvw) {
 }
 
 int usage() {
-  std::fprintf(
-      stderr,
-      "usage: bench_instructions slice|section|tet|tet-nouvw|sweep|sweep-slices|sweep-copy|atlas "
-      "MODEL "
-      "ROUNDS\n");
+  std::fprintf(stderr,
+               "usage: bench_instructions "
+               "slice|section|tet|tet-nouvw|sweep|sweep-slices|sweep-copy|atlas|general "
+               "MODEL "
+               "ROUNDS\n");
   return 2;
 }
 
@@ -83,6 +86,24 @@ int main(int argc, char** argv) {
       for (const auto& p : planes) {
         slicer.slice(compiled, p, out);
         sink += out.vertex_source.size();
+      }
+  } else if (mode == "general") {
+    const cw4d::SliceModel compiled(model, cw4d::SliceModelOptions::unclustered());
+    const int n = model.ambient_dim();
+    std::vector<cw4d::Hyperplane> through;
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      Eigen::VectorXd axis = Eigen::VectorXd::Zero(n);
+      axis[static_cast<Eigen::Index>(i % static_cast<std::uint32_t>(n))] = 1.0;
+      const auto v = static_cast<Eigen::Index>((37u * i) % model.count(0));
+      through.push_back(cw4d::Hyperplane::from(axis, axis.dot(model.positions().col(v))));
+    }
+    cw4d::Slicer slicer;
+    cw4d::SliceBuffers out;
+    slicer.slice(compiled, through[0], out);
+    for (int r = 0; r < rounds; ++r)
+      for (const auto& p : through) {
+        slicer.slice(compiled, p, out);
+        sink += out.vertex_source.size() + (out.general ? 1 : 0);
       }
   } else if (mode == "section") {
     sink += cw4d::section(model, planes[0]).vertex_source.size();

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 
@@ -169,26 +170,56 @@ class FacetPlanes {
       parallel_.clear();
       return;
     }
-    // Facets containing each edge: edges -> faces -> ... -> facets.
-    up_.resize(model.count(1));
-    for (std::uint32_t e = 0; e < up_.size(); ++e) up_[e] = {e};
+    // The facets around each edge that the passes below look at: the nearly parallel edges
+    // (place) and every edge at an end of one (settle_values), found by walking up the ranks,
+    // edges -> faces -> ... -> facets, through parent lists in compressed rows.
+    wanted_.assign(model.count(0), 0);
+    for (std::uint32_t e = 0; e < model.count(1); ++e) {
+      if (!parallel_[e]) continue;
+      const auto [a, b] = model.edge(e);
+      wanted_[a] = wanted_[b] = 1;
+    }
+    std::vector<std::vector<std::uint32_t>> parent_offsets(fr + 1), parent_ids(fr + 1);
     for (int r = 2; r <= fr; ++r) {
       const Incidence& table = model.boundary(r);
-      std::vector<std::vector<std::uint32_t>> parents(model.count(r - 1));
+      auto& offsets = parent_offsets[r];
+      auto& ids = parent_ids[r];
+      offsets.assign(model.count(r - 1) + 1, 0);
       for (std::uint32_t x = 0; x < table.size(); ++x)
-        for (auto id : table.ids(x)) parents[id].push_back(x);
-      for (auto& list : up_) {
-        std::vector<std::uint32_t> next;
-        for (auto id : list) next.insert(next.end(), parents[id].begin(), parents[id].end());
-        std::sort(next.begin(), next.end());
-        next.erase(std::unique(next.begin(), next.end()), next.end());
-        list = std::move(next);
-      }
+        for (auto id : table.ids(x)) ++offsets[id + 1];
+      for (std::size_t i = 1; i < offsets.size(); ++i) offsets[i] += offsets[i - 1];
+      ids.resize(offsets.back());
+      std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+      for (std::uint32_t x = 0; x < table.size(); ++x)  // parents in increasing order
+        for (auto id : table.ids(x)) ids[fill[id]++] = x;
     }
+    up_start_.assign(model.count(1) + 1, 0);
+    std::vector<std::uint32_t> list, next;
+    for (std::uint32_t e = 0; e < model.count(1); ++e) {
+      const auto [a, b] = model.edge(e);
+      if (wanted_[a] || wanted_[b]) {
+        list.assign(1, e);
+        for (int r = 2; r <= fr; ++r) {
+          next.clear();
+          for (auto id : list)
+            next.insert(next.end(), parent_ids[r].begin() + parent_offsets[r][id],
+                        parent_ids[r].begin() + parent_offsets[r][id + 1]);
+          std::sort(next.begin(), next.end());
+          next.erase(std::unique(next.begin(), next.end()), next.end());
+          list.swap(next);
+        }
+        up_ids_.insert(up_ids_.end(), list.begin(), list.end());
+      }
+      up_start_[e + 1] = static_cast<std::uint32_t>(up_ids_.size());
+    }
+    rows_.resize(model.count(fr));
+    have_row_.assign(model.count(fr), 0);
     frame_.unit = world ? world->normal : Eigen::VectorXd(nm / len_n_);
     frame_.offset = world ? world->offset : dm / len_n_;
     frame_.origin = frame_.offset * frame_.unit;
     frame_.basis = hyperplane_basis(frame_.unit);
+    for (int j = 0; j < n_ - 1; ++j) basis_cols_.emplace_back(frame_.basis.col(j));
+    seen_.resize(n_ - 1);
   }
 
   bool active() const { return !parallel_.empty(); }
@@ -200,27 +231,40 @@ class FacetPlanes {
   void settle_values(std::vector<double>& s) {
     if (!active()) return;
     const std::size_t nv = model_.count(0);
-    std::vector<std::vector<std::uint32_t>> facets(nv);
-    std::vector<char> wanted(nv, 0);
-    for (std::uint32_t e = 0; e < model_.count(1); ++e) {
-      const auto [a, b] = model_.edge(e);
-      if (parallel_[e]) wanted[a] = wanted[b] = 1;
-    }
+    const std::vector<char>& wanted = wanted_;
+    // The facets around each wanted vertex (those of its edges), in compressed rows.
+    std::vector<std::uint32_t> start(nv + 1, 0), around;
     for (std::uint32_t e = 0; e < model_.count(1); ++e) {
       const auto [a, b] = model_.edge(e);
       for (auto v : {a, b})
-        if (wanted[v]) facets[v].insert(facets[v].end(), up_[e].begin(), up_[e].end());
+        if (wanted[v]) start[v + 1] += up_start_[e + 1] - up_start_[e];
     }
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    around.resize(start[nv]);
+    {
+      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+      for (std::uint32_t e = 0; e < model_.count(1); ++e) {
+        const auto [a, b] = model_.edge(e);
+        for (auto v : {a, b})
+          if (wanted[v])
+            fill[v] = static_cast<std::uint32_t>(
+                std::copy(up(e).begin(), up(e).end(), around.begin() + fill[v]) - around.begin());
+      }
+    }
+    Eigen::MatrixXd m(n_, n_);
+    Eigen::VectorXd rhs(n_), row(n_), hi(n_), lo(n_), g(n_), dy(n_), coef(2 * n_), at(2 * n_);
+    Eigen::VectorXd work(n_);
+    EigenSolver eig(n_);
+    std::vector<std::uint32_t> list;
     for (std::uint32_t v = 0; v < nv; ++v) {
       if (!wanted[v]) continue;
-      auto& list = facets[v];
+      list.assign(around.begin() + start[v], around.begin() + start[v + 1]);
       std::sort(list.begin(), list.end());
       list.erase(std::unique(list.begin(), list.end()), list.end());
       // Unknowns (z, sigma): the point o + B z + sigma n; a facet's equation in them is
       // (B^T N) . z + (N . n) sigma = level - N . o.
-      Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n_, n_);
-      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
-      Eigen::VectorXd row(n_);
+      m.setZero();
+      rhs.setZero();
       for (const std::uint32_t f : list) {
         const Row& r = row_of(f);
         row.head(n_ - 1) = r.u;
@@ -228,8 +272,10 @@ class FacetPlanes {
         m += row * row.transpose();
         rhs += r.rhs * row;
       }
-      const auto y = solve(m, rhs);
-      if (!y) continue;
+      // One decomposition of m serves the solve and both refinements below.
+      eig.compute(m);
+      if (!invertible(eig)) continue;
+      solve(eig, rhs, work, hi);
       // sigma must be exact to far below the rounding of a solve in doubles: it is ~tilt x
       // (distance from the trace), so an absolute error of 1e-16 is a move of 1e-16 / tilt
       // across the trace (1e-4 at 1e-12 rad), and a vertex that near the trace would take
@@ -239,7 +285,7 @@ class FacetPlanes {
       // unevaluated sum hi + lo, with residuals in twice the working precision (plane_value):
       // every row's coefficients and right-hand side are exact to full relative precision,
       // so sigma becomes exact to about 1e-30 absolute.
-      Eigen::VectorXd hi = *y, lo = Eigen::VectorXd::Zero(n_), g(n_), coef(2 * n_), at(2 * n_);
+      lo.setZero();
       for (int pass = 0; pass < 2; ++pass) {
         g.setZero();
         at << hi, lo;
@@ -250,9 +296,8 @@ class FacetPlanes {
           coef << row, row;
           g -= plane_value(coef, r.rhs, at.data()) * row;  // (rhs - row . y) row
         }
-        const auto dy = solve(m, g);
-        if (!dy) break;
-        lo += *dy;
+        solve(eig, g, work, dy);
+        lo += dy;
         for (int j = 0; j < n_; ++j) {  // renormalised: hi + lo exactly, |lo| <= ulp(hi) / 2
           const double sum = hi[j] + lo[j], z = sum - hi[j];
           lo[j] = (hi[j] - (sum - z)) + (lo[j] - z);
@@ -274,7 +319,7 @@ class FacetPlanes {
       if (src.rank != 1 || !parallel_[src.element]) continue;
       Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n_ - 1, n_ - 1);
       Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_ - 1);
-      for (const std::uint32_t f : up_[src.element]) {
+      for (const std::uint32_t f : up(src.element)) {
         const Row& r = row_of(f);
         const double w = r.u.norm();
         if (!(w > 0.0)) continue;
@@ -307,41 +352,90 @@ class FacetPlanes {
   };
 
   const Row& row_of(std::uint32_t f) {
-    auto [it, fresh] = rows_.try_emplace(f);
-    if (!fresh) return it->second;
+    Row& r = rows_[f];
+    if (have_row_[f]) return r;
+    have_row_[f] = 1;
     const auto& p = model_.positions();
     const Eigen::VectorXd nf = model_.facet_normals().col(f);
-    const auto verts = model_.vertices_of(n_ - 1, f);
+    const std::vector<std::uint32_t>& verts = facet_vertices(f);
     double level = 0.0;
     for (auto v : verts) level += nf.dot(p.col(v));
     level /= static_cast<double>(verts.size());
     // B^T nf to full relative precision (each entry a compensated dot product): for a facet
     // nearly parallel to the plane it is tiny, and its direction decides the trace.
-    Row& r = it->second;
     r.u.resize(n_ - 1);
-    for (int j = 0; j < n_ - 1; ++j) r.u[j] = plane_value(frame_.basis.col(j), 0.0, nf.data());
+    for (int j = 0; j < n_ - 1; ++j) r.u[j] = plane_value(basis_cols_[j], 0.0, nf.data());
     r.c = plane_value(frame_.unit, 0.0, nf.data());
     // nf . (origin + B z) = level  <=>  u . z = level - nf . origin
     r.rhs = -plane_value(nf, level, frame_.origin.data());
     return r;
   }
 
+  // The vertices of facet f in increasing order (Complex::vertices_of's list), walked down the
+  // ranks with a stamp per element instead of a sorted list per rank.
+  const std::vector<std::uint32_t>& facet_vertices(std::uint32_t f) {
+    walk_.assign(1, f);
+    for (int k = n_ - 1; k >= 1; --k) {
+      const Incidence& table = model_.boundary(k);
+      std::vector<std::uint32_t>& seen = seen_[k - 1];
+      if (seen.size() < model_.count(k - 1)) seen.resize(model_.count(k - 1), 0);
+      ++stamp_;
+      walk_next_.clear();
+      for (auto x : walk_)
+        for (auto id : table.ids(x))
+          if (seen[id] != stamp_) {
+            seen[id] = stamp_;
+            walk_next_.push_back(id);
+          }
+      walk_.swap(walk_next_);
+    }
+    std::sort(walk_.begin(), walk_.end());
+    return walk_;
+  }
+
+  using EigenSolver = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>;
+
   // m y = rhs for m symmetric positive semi-definite; nullopt when m is nearly singular.
   static std::optional<Eigen::VectorXd> solve(const Eigen::MatrixXd& m,
                                               const Eigen::VectorXd& rhs) {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
-    if (eig.eigenvalues().minCoeff() < 1e-6) return std::nullopt;
-    return Eigen::VectorXd(eig.eigenvectors() * (eig.eigenvalues().cwiseInverse().asDiagonal() *
-                                                 (eig.eigenvectors().transpose() * rhs)));
+    if (!invertible(eig)) return std::nullopt;
+    return solve(eig, rhs);
+  }
+  static bool invertible(const EigenSolver& eig) { return !(eig.eigenvalues().minCoeff() < 1e-6); }
+  // m y = rhs from m's decomposition (invertible(eig)), into y, with a work vector: V (D^-1
+  // (V^T rhs)), product by product.
+  static Eigen::VectorXd solve(const EigenSolver& eig, const Eigen::VectorXd& rhs) {
+    Eigen::VectorXd work(rhs.size()), y(rhs.size());
+    solve(eig, rhs, work, y);
+    return y;
+  }
+  static void solve(const EigenSolver& eig, const Eigen::VectorXd& rhs, Eigen::VectorXd& work,
+                    Eigen::VectorXd& y) {
+    work.noalias() = eig.eigenvectors().transpose() * rhs;
+    work = eig.eigenvalues().cwiseInverse().asDiagonal() * work;
+    y.noalias() = eig.eigenvectors() * work;
   }
 
   const Complex& model_;
   int n_;
   double len_n_;
   std::vector<char> parallel_;
-  std::vector<std::vector<std::uint32_t>> up_;
+  std::vector<char> wanted_;  // per vertex: an end of a nearly parallel edge
+  // The facets around edge e, in increasing order, at up_ids_[up_start_[e], up_start_[e + 1])
+  // (only edges with an end on a nearly parallel edge have them).
+  std::vector<std::uint32_t> up_start_, up_ids_;
+  std::span<const std::uint32_t> up(std::uint32_t e) const {
+    return {up_ids_.data() + up_start_[e], up_ids_.data() + up_start_[e + 1]};
+  }
   PlaneFrame frame_;
-  std::unordered_map<std::uint32_t, Row> rows_;
+  std::vector<Row> rows_;  // per facet, made on first use (have_row_)
+  std::vector<char> have_row_;
+  std::vector<Eigen::VectorXd> basis_cols_;  // frame_.basis's columns
+  // facet_vertices' walk: the elements of the current rank, and a stamp per element of each rank
+  std::vector<std::uint32_t> walk_, walk_next_;
+  std::vector<std::vector<std::uint32_t>> seen_;
+  std::uint32_t stamp_ = 0;
 };
 
 struct CutResult {
