@@ -38,7 +38,10 @@ Section to_section_untested(const SliceBuffers& buffers);
 void check_section_input(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);
 
 /// section_general without check_tables (validate.hpp), for callers whose model was checked
-/// when it was compiled (section(), the slicer's general path).
-Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf);
+/// when it was compiled (section(), the slicer's general path). test_self_intersection = false
+/// leaves Section::self_intersecting false, for callers that do not keep it (SliceBuffers has
+/// no such field: to_section tests the buffers).
+Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf,
+                    bool test_self_intersection = true);
 
 }  // namespace cw4d

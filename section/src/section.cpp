@@ -170,20 +170,21 @@ class FacetPlanes {
       parallel_.clear();
       return;
     }
-    // The facets around each edge that the passes below look at: the nearly parallel edges
-    // (place) and every edge at an end of one (settle_values), found by walking up the ranks,
-    // edges -> faces -> ... -> facets, through parent lists in compressed rows.
+    // The facets above an edge or a vertex's edges (place, settle_values), found by walking up
+    // the ranks, edges -> faces -> ... -> facets, through parent lists in compressed rows.
     wanted_.assign(model.count(0), 0);
     for (std::uint32_t e = 0; e < model.count(1); ++e) {
       if (!parallel_[e]) continue;
       const auto [a, b] = model.edge(e);
       wanted_[a] = wanted_[b] = 1;
     }
-    std::vector<std::vector<std::uint32_t>> parent_offsets(fr + 1), parent_ids(fr + 1);
+    parent_start_.resize(fr + 1);
+    parent_ids_.resize(fr + 1);
+    up_mark_.resize(fr + 1);
     for (int r = 2; r <= fr; ++r) {
       const Incidence& table = model.boundary(r);
-      auto& offsets = parent_offsets[r];
-      auto& ids = parent_ids[r];
+      auto& offsets = parent_start_[r];
+      auto& ids = parent_ids_[r];
       offsets.assign(model.count(r - 1) + 1, 0);
       for (std::uint32_t x = 0; x < table.size(); ++x)
         for (auto id : table.ids(x)) ++offsets[id + 1];
@@ -192,34 +193,20 @@ class FacetPlanes {
       std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
       for (std::uint32_t x = 0; x < table.size(); ++x)  // parents in increasing order
         for (auto id : table.ids(x)) ids[fill[id]++] = x;
-    }
-    up_start_.assign(model.count(1) + 1, 0);
-    std::vector<std::uint32_t> list, next;
-    for (std::uint32_t e = 0; e < model.count(1); ++e) {
-      const auto [a, b] = model.edge(e);
-      if (wanted_[a] || wanted_[b]) {
-        list.assign(1, e);
-        for (int r = 2; r <= fr; ++r) {
-          next.clear();
-          for (auto id : list)
-            next.insert(next.end(), parent_ids[r].begin() + parent_offsets[r][id],
-                        parent_ids[r].begin() + parent_offsets[r][id + 1]);
-          std::sort(next.begin(), next.end());
-          next.erase(std::unique(next.begin(), next.end()), next.end());
-          list.swap(next);
-        }
-        up_ids_.insert(up_ids_.end(), list.begin(), list.end());
-      }
-      up_start_[e + 1] = static_cast<std::uint32_t>(up_ids_.size());
+      up_mark_[r].assign(model.count(r), 0);
     }
     rows_.resize(model.count(fr));
     have_row_.assign(model.count(fr), 0);
+    row_u_.resize(model.count(fr) * static_cast<std::size_t>(n_ - 1));
+    nf_.resize(n_);
+    u_.resize(n_ - 1);
     frame_.unit = world ? world->normal : Eigen::VectorXd(nm / len_n_);
     frame_.offset = world ? world->offset : dm / len_n_;
     frame_.origin = frame_.offset * frame_.unit;
     frame_.basis = hyperplane_basis(frame_.unit);
     for (int j = 0; j < n_ - 1; ++j) basis_cols_.emplace_back(frame_.basis.col(j));
     seen_.resize(n_ - 1);
+    for (int k = 0; k < n_ - 1; ++k) seen_[k].assign(model.count(k), 0);
   }
 
   bool active() const { return !parallel_.empty(); }
@@ -228,48 +215,89 @@ class FacetPlanes {
 
   // The ends of the nearly parallel edges: s replaced by the value of the point where their
   // facets' hyperplanes meet (times |n|, as s), where those pin a point.
-  void settle_values(std::vector<double>& s) {
+  //
+  // Only where the new value can be read. After this pass s is read for the side of every
+  // vertex (classify_side with `tolerance`), for the crossings of edges whose ends differ in
+  // side or lie ON, and for the non-ON neighbours of ON vertices (settle_on_band). A vertex
+  // whose side no settling can change (certain below), with every neighbour certain and on its
+  // side, is read only for its side, so it keeps its own value: the same sections, bit for
+  // bit, without its solve. The bound: the settled point y* is the least-squares meet of the
+  // vertex's facet hyperplanes, solved only when the normal matrix's smallest eigenvalue is at
+  // least 1e-6 (invertible), so |y* - y_v| <= |r| / sqrt(1e-6) for the vertex's own point y_v
+  // and its residuals r_f = N_f . p_v - level_f; the value moves by at most |n| times that.
+  // Twice that factor, plus 1e-9 of the model's scale for the rounding of every term, keeps it
+  // a bound with a wide margin. `max_norm` is the largest vertex norm.
+  void settle_values(std::vector<double>& s, double tolerance, double max_norm) {
     if (!active()) return;
     const std::size_t nv = model_.count(0);
     const std::vector<char>& wanted = wanted_;
-    // The facets around each wanted vertex (those of its edges), in compressed rows.
-    std::vector<std::uint32_t> start(nv + 1, 0), around;
+    // The facets above each wanted vertex's edges, in increasing order, in compressed rows:
+    // around[start[v], start[v + 1]).
+    std::vector<std::uint32_t> edge_start(nv + 1, 0), edge_ids(2 * model_.count(1));
     for (std::uint32_t e = 0; e < model_.count(1); ++e) {
       const auto [a, b] = model_.edge(e);
-      for (auto v : {a, b})
-        if (wanted[v]) start[v + 1] += up_start_[e + 1] - up_start_[e];
+      ++edge_start[a + 1];
+      ++edge_start[b + 1];
     }
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    around.resize(start[nv]);
+    for (std::size_t v = 0; v < nv; ++v) edge_start[v + 1] += edge_start[v];
     {
-      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+      std::vector<std::uint32_t> fill(edge_start.begin(), edge_start.end() - 1);
       for (std::uint32_t e = 0; e < model_.count(1); ++e) {
         const auto [a, b] = model_.edge(e);
-        for (auto v : {a, b})
-          if (wanted[v])
-            fill[v] = static_cast<std::uint32_t>(
-                std::copy(up(e).begin(), up(e).end(), around.begin() + fill[v]) - around.begin());
+        edge_ids[fill[a]++] = e;
+        edge_ids[fill[b]++] = e;
       }
+    }
+    std::vector<std::uint32_t> start(nv + 1, 0), around;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (wanted[v]) {
+        const std::vector<std::uint32_t>& facets =
+            facets_above({edge_ids.data() + edge_start[v], edge_ids.data() + edge_start[v + 1]});
+        around.insert(around.end(), facets.begin(), facets.end());
+      }
+      start[v + 1] = static_cast<std::uint32_t>(around.size());
+    }
+    // certain[v]: classify_side gives v the same side before and after settling.
+    const auto& p = model_.positions();
+    const auto& normals = model_.facet_normals();
+    const double slack = 1e-9 * (max_norm + std::abs(frame_.offset));
+    std::vector<char> certain(nv), settle(nv, 0);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      double bound = 0.0;
+      if (wanted[v]) {
+        double r2 = 0.0;
+        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+          const std::uint32_t f = around[i];
+          const double r = normals.col(f).dot(p.col(v)) - row_of(f).level;
+          r2 += r * r;
+        }
+        bound = len_n_ * (2e3 * std::sqrt(r2) + slack);
+      }
+      certain[v] = std::abs(s[v]) > tolerance + bound;
+      settle[v] = wanted[v] && !certain[v];
+    }
+    for (std::uint32_t e = 0; e < model_.count(1); ++e) {
+      const auto [a, b] = model_.edge(e);
+      if (!(certain[a] && certain[b] && (s[a] > 0.0) == (s[b] > 0.0))) settle[a] = settle[b] = 1;
     }
     Eigen::MatrixXd m(n_, n_);
     Eigen::VectorXd rhs(n_), row(n_), hi(n_), lo(n_), g(n_), dy(n_), coef(2 * n_), at(2 * n_);
     Eigen::VectorXd work(n_);
     EigenSolver eig(n_);
-    std::vector<std::uint32_t> list;
     for (std::uint32_t v = 0; v < nv; ++v) {
-      if (!wanted[v]) continue;
-      list.assign(around.begin() + start[v], around.begin() + start[v + 1]);
-      std::sort(list.begin(), list.end());
-      list.erase(std::unique(list.begin(), list.end()), list.end());
+      if (!wanted[v] || !settle[v]) continue;
+      const std::span<const std::uint32_t> list(around.data() + start[v],
+                                                around.data() + start[v + 1]);
       // Unknowns (z, sigma): the point o + B z + sigma n; a facet's equation in them is
       // (B^T N) . z + (N . n) sigma = level - N . o.
       m.setZero();
       rhs.setZero();
       for (const std::uint32_t f : list) {
         const Row& r = row_of(f);
-        row.head(n_ - 1) = r.u;
+        row.head(n_ - 1) = u_of(f);
         row[n_ - 1] = r.c;
-        m += row * row.transpose();
+        for (int j = 0; j < n_; ++j)  // m += row row^T, element by element
+          for (int i = 0; i < n_; ++i) m(i, j) += row[i] * row[j];
         rhs += r.rhs * row;
       }
       // One decomposition of m serves the solve and both refinements below.
@@ -291,7 +319,7 @@ class FacetPlanes {
         at << hi, lo;
         for (const std::uint32_t f : list) {
           const Row& r = row_of(f);
-          row.head(n_ - 1) = r.u;
+          row.head(n_ - 1) = u_of(f);
           row[n_ - 1] = r.c;
           coef << row, row;
           g -= plane_value(coef, r.rhs, at.data()) * row;  // (rhs - row . y) row
@@ -319,12 +347,14 @@ class FacetPlanes {
       if (src.rank != 1 || !parallel_[src.element]) continue;
       Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n_ - 1, n_ - 1);
       Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_ - 1);
-      for (const std::uint32_t f : up(src.element)) {
+      const std::uint32_t edge = src.element;
+      for (const std::uint32_t f : facets_above({&edge, 1})) {
         const Row& r = row_of(f);
-        const double w = r.u.norm();
+        u_ = u_of(f);
+        const double w = u_.norm();
         if (!(w > 0.0)) continue;
-        m += r.u * r.u.transpose() / (w * w);
-        rhs += (r.rhs / (w * w)) * r.u;
+        m += u_ * u_.transpose() / (w * w);
+        rhs += (r.rhs / (w * w)) * u_;
       }
       // The facets' traces must pin the point: a well-conditioned system, else t stays.
       const auto z = solve(m, rhs);
@@ -345,10 +375,11 @@ class FacetPlanes {
   }
 
  private:
+  // Facet f's equation in the frame; its u = B^T N is u_of(f).
   struct Row {
-    Eigen::VectorXd u;  // B^T N
-    double c = 0.0;     // N . n
-    double rhs = 0.0;   // level - N . o
+    double c = 0.0;      // N . n
+    double rhs = 0.0;    // level - N . o
+    double level = 0.0;  // N . x over the facet's vertices, averaged
   };
 
   const Row& row_of(std::uint32_t f) {
@@ -356,15 +387,17 @@ class FacetPlanes {
     if (have_row_[f]) return r;
     have_row_[f] = 1;
     const auto& p = model_.positions();
-    const Eigen::VectorXd nf = model_.facet_normals().col(f);
+    nf_ = model_.facet_normals().col(f);
+    const Eigen::VectorXd& nf = nf_;
     const std::vector<std::uint32_t>& verts = facet_vertices(f);
     double level = 0.0;
     for (auto v : verts) level += nf.dot(p.col(v));
     level /= static_cast<double>(verts.size());
+    r.level = level;
     // B^T nf to full relative precision (each entry a compensated dot product): for a facet
     // nearly parallel to the plane it is tiny, and its direction decides the trace.
-    r.u.resize(n_ - 1);
-    for (int j = 0; j < n_ - 1; ++j) r.u[j] = plane_value(basis_cols_[j], 0.0, nf.data());
+    double* u = row_u_.data() + static_cast<std::size_t>(f) * (n_ - 1);
+    for (int j = 0; j < n_ - 1; ++j) u[j] = plane_value(basis_cols_[j], 0.0, nf.data());
     r.c = plane_value(frame_.unit, 0.0, nf.data());
     // nf . (origin + B z) = level  <=>  u . z = level - nf . origin
     r.rhs = -plane_value(nf, level, frame_.origin.data());
@@ -378,7 +411,6 @@ class FacetPlanes {
     for (int k = n_ - 1; k >= 1; --k) {
       const Incidence& table = model_.boundary(k);
       std::vector<std::uint32_t>& seen = seen_[k - 1];
-      if (seen.size() < model_.count(k - 1)) seen.resize(model_.count(k - 1), 0);
       ++stamp_;
       walk_next_.clear();
       for (auto x : walk_)
@@ -422,15 +454,43 @@ class FacetPlanes {
   double len_n_;
   std::vector<char> parallel_;
   std::vector<char> wanted_;  // per vertex: an end of a nearly parallel edge
-  // The facets around edge e, in increasing order, at up_ids_[up_start_[e], up_start_[e + 1])
-  // (only edges with an end on a nearly parallel edge have them).
-  std::vector<std::uint32_t> up_start_, up_ids_;
-  std::span<const std::uint32_t> up(std::uint32_t e) const {
-    return {up_ids_.data() + up_start_[e], up_ids_.data() + up_start_[e + 1]};
+  // parent_ids_[r][parent_start_[r][x], parent_start_[r][x + 1]): the elements of rank r whose
+  // boundary has element x of rank r - 1, in increasing order (r = 2 .. facet rank).
+  std::vector<std::vector<std::uint32_t>> parent_start_, parent_ids_;
+  // facets_above's walk: the elements of the current rank, and a stamp per element of each rank
+  std::vector<std::vector<std::uint32_t>> up_mark_;
+  std::vector<std::uint32_t> up_walk_, up_next_;
+  std::uint32_t up_stamp_ = 0;
+
+  // The facets whose boundary reaches one of `edges`, in increasing order (valid until the
+  // next call).
+  const std::vector<std::uint32_t>& facets_above(std::span<const std::uint32_t> edges) {
+    up_walk_.assign(edges.begin(), edges.end());
+    ++up_stamp_;
+    for (int r = 2; r <= n_ - 1; ++r) {
+      std::vector<std::uint32_t>& mark = up_mark_[r];
+      const std::vector<std::uint32_t>& first = parent_start_[r];
+      const std::vector<std::uint32_t>& ids = parent_ids_[r];
+      up_next_.clear();
+      for (const std::uint32_t x : up_walk_)
+        for (std::uint32_t i = first[x]; i < first[x + 1]; ++i)
+          if (mark[ids[i]] != up_stamp_) {
+            mark[ids[i]] = up_stamp_;
+            up_next_.push_back(ids[i]);
+          }
+      up_walk_.swap(up_next_);
+    }
+    std::sort(up_walk_.begin(), up_walk_.end());
+    return up_walk_;
   }
   PlaneFrame frame_;
   std::vector<Row> rows_;  // per facet, made on first use (have_row_)
   std::vector<char> have_row_;
+  std::vector<double> row_u_;  // n - 1 per facet: the rows' u = B^T N
+  Eigen::Map<const Eigen::VectorXd> u_of(std::uint32_t f) const {
+    return {row_u_.data() + static_cast<std::size_t>(f) * (n_ - 1), n_ - 1};
+  }
+  Eigen::VectorXd nf_, u_;                   // row_of's facet normal; place's copy of a row's u
   std::vector<Eigen::VectorXd> basis_cols_;  // frame_.basis's columns
   // facet_vertices' walk: the elements of the current rank, and a stamp per element of each rank
   std::vector<std::uint32_t> walk_, walk_next_;
@@ -865,7 +925,8 @@ Section section_general(const Complex& model, const Hyperplane& plane, const Aff
   return general_cut(model, plane, xf);  // (which checks the dimensions)
 }
 
-Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf) {
+Section general_cut(const Complex& model, const Hyperplane& plane, const AffineTransform& xf,
+                    bool test_self_intersection) {
   check_section_input(model, plane, xf);
   const int n = model.ambient_dim();
   // The plane in model space: n.(A x + t) = d  <=>  (A^T n).x = d - n.t
@@ -885,7 +946,7 @@ Section general_cut(const Complex& model, const Hyperplane& plane, const AffineT
   const double tolerance = on_plane_tolerance(nm.norm(), std::sqrt(max_norm2), dm);
   const bool unmoved = xf.linear().isIdentity(0.0) && xf.translation().isZero(0.0);
   FacetPlanes facets(model, nm, dm, s, unmoved ? &plane : nullptr);
-  facets.settle_values(s);
+  facets.settle_values(s, tolerance, std::sqrt(max_norm2));
   std::vector<Side> side(nv);
   bool any_on = false;
   for (std::size_t v = 0; v < nv; ++v) {
@@ -966,7 +1027,7 @@ Section general_cut(const Complex& model, const Hyperplane& plane, const AffineT
     }
     sec.complex.set_facet_normals(std::move(normals));
   }
-  sec.self_intersecting = self_intersects(sec.complex);
+  sec.self_intersecting = test_self_intersection && self_intersects(sec.complex);
   assert(well_formed_section(sec, model));
   return sec;
 }

@@ -132,15 +132,15 @@ void Slicer::Impl::general_from(const SliceModel::Compiled& m, const Hyperplane&
 
 void Slicer::Impl::general_slice(const SliceModel::Compiled& m, const Hyperplane& plane,
                                  const AffineTransform& xf, SliceBuffers& out) {
-  const Section sec = general_cut(m.complex(), plane, xf);
+  Section sec = general_cut(m.complex(), plane, xf, /*test_self_intersection=*/false);
   const Complex& c = sec.complex;
   out.dim = c.ambient_dim();
   out.plane = plane;
   out.coords.assign(c.positions().data(), c.positions().data() + c.positions().size());
-  out.vertex_source = sec.vertex_source;
+  out.vertex_source = std::move(sec.vertex_source);
   out.boundary.resize(c.top_rank());
   for (int r = 1; r <= c.top_rank(); ++r) out.boundary[r - 1] = c.boundary(r);
-  out.source = sec.source;
+  out.source = std::move(sec.source);
   out.facet_normals.assign(c.facet_normals().data(),
                            c.facet_normals().data() + c.facet_normals().size());
   out.general = true;
