@@ -233,8 +233,9 @@ build_instrumented() {
 run_sanitizer_suite() {
   local status=0
   build_instrumented || return 1
-  # The degeneracy stress test runs 5% of its planes here (each section costs ~10x under ASan);
-  # the normal suite above runs all of them.
+  # The degeneracy stress tests run 5% of their planes here (each section costs ~10x under ASan),
+  # and the hull tests every fourth Wythoff polychoron and Miratope file; the normal suite above
+  # runs all of them.
   log "testing under ASan+UBSan"
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
     UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" CW4D_STRESS_FRACTION=0.05 \
