@@ -272,10 +272,11 @@ std::vector<std::pair<std::string, std::string>> golden_cases() {
     for (const std::string spec : {"tesseract", "24-cell", "120-cell", "600-cell"})
       axis_cases(spec, load_model(spec), axes);
     const double a = 0.3;
-    std::vector<Eigen::VectorXd> turned = axes;  // the axes x, y, w turned by a in the xw plane
+    // The images of the axes x, y and w under the turn by a in the xw plane.
+    std::vector<Eigen::VectorXd> turned(3, Eigen::VectorXd::Zero(4));
     turned[0] << std::cos(a), 0.0, 0.0, std::sin(a);
+    turned[1] << 0.0, 1.0, 0.0, 0.0;
     turned[2] << -std::sin(a), 0.0, 0.0, std::cos(a);
-    turned.erase(turned.begin() + 3);
     for (const std::string spec : {"24-cell", "120-cell"}) {
       ComplexSoup soup = to_soup(load_model(spec));
       for (Eigen::Index v = 0; v < soup.positions.cols(); ++v) {
