@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -32,6 +31,7 @@
 #include "cw4d/complex/validate.hpp"
 #include "cw4d/tetrahedralize/catalogue.hpp"
 #include "cw4d/tetrahedralize/hull.hpp"
+#include "support/stride.hpp"
 
 using namespace cw4d;
 using FVector = std::vector<std::size_t>;
@@ -40,13 +40,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const fs::path kMiratope = fs::path(CW4D_TEST_DATA_DIR) / "miratope" / "convex uniform";
-
-// Every item of the two big loops, or every fourth when CW4D_STRESS_FRACTION asks for less.
-std::size_t loop_stride() {
-  const char* env = std::getenv("CW4D_STRESS_FRACTION");
-  const double f = env ? std::atof(env) : 1.0;
-  return f > 0.0 && f < 1.0 ? 4 : 1;
-}
 
 Eigen::MatrixXd columns(std::initializer_list<std::vector<double>> pts) {
   Eigen::MatrixXd m(static_cast<Eigen::Index>(pts.begin()->size()),
@@ -130,7 +123,7 @@ struct TempDir {
 TEST_CASE("the hull of every Wythoff polychoron's vertices is the Wythoff complex", "[hull]") {
   // A4, B4, F4, H4, each with all 15 ringings (with a stride of 4 over the 60, each family
   // keeps 3 or 4 ringings, different ones in each, as 15 and 4 are coprime).
-  const std::size_t stride = loop_stride();
+  const std::size_t stride = test::loop_stride();
   std::size_t index = 0;
   for (const std::string labels : {"333", "433", "343", "533"}) {
     for (unsigned mask = 1; mask < 16; ++mask) {
@@ -160,7 +153,7 @@ TEST_CASE("hulls of the Miratope convex uniform vertex sets match the files' cou
   for (const auto& entry : fs::directory_iterator(kMiratope))
     if (entry.path().extension() == ".off") files.push_back(entry.path());
   std::sort(files.begin(), files.end());
-  const std::size_t stride = loop_stride();
+  const std::size_t stride = test::loop_stride();
   int compared = 0;
   for (std::size_t i = 0; i < files.size(); i += stride) {
     const fs::path& path = files[i];
@@ -172,7 +165,7 @@ TEST_CASE("hulls of the Miratope convex uniform vertex sets match the files' cou
     ++compared;
   }
   CHECK(files.size() >= 41);
-  CHECK(static_cast<std::size_t>(compared) == (files.size() + stride - 1) / stride);
+  CHECK(static_cast<std::size_t>(compared) == test::strided_count(files.size(), stride));
 }
 
 TEST_CASE("the snub 24-cell has the published counts, equal edges, and is Miratope's",

@@ -1,6 +1,8 @@
 // Shared pieces of the cw4d command line (see cli.hpp).
 #include "cli.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -154,6 +156,24 @@ std::string describe_counts(const Complex& c) {
     out += std::to_string(f[k]) + " " + rank_name(static_cast<int>(k), f[k]);
   }
   return out;
+}
+
+ProgressBar::ProgressBar(std::string command, std::string unit, std::size_t total, bool wanted)
+    : command_(std::move(command)),
+      unit_(std::move(unit)),
+      total_(total),
+      enabled_(wanted && ::isatty(2) != 0) {}
+
+void ProgressBar::step(std::size_t done) {
+  if (!enabled_) return;
+  std::lock_guard lock(mutex_);
+  constexpr std::size_t width = 40;
+  const std::size_t filled = total_ ? std::min(done, total_) * width / total_ : width;
+  std::fprintf(stderr, "\rcw4d: %s [%s%s] %zu/%zu %s", command_.c_str(),
+               std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done,
+               total_, unit_.c_str());
+  if (done == total_) std::fputc('\n', stderr);
+  std::fflush(stderr);
 }
 
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& names) {

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -85,6 +86,22 @@ bool is_off_extension(const std::string& ext);
 std::string describe_counts(const Complex& c);
 /// "vertex"/"vertices", "edge"/"edges", ... for rank 0..3, "rank-k element(s)" above.
 std::string rank_name(int rank, std::size_t count);
+
+/// A progress bar on stderr ("cw4d: sweep [####....] 12/64 layers"), drawn only when `wanted`
+/// and stderr is a terminal; step() may be called from several threads.
+class ProgressBar {
+ public:
+  /// `command` and `unit` name the bar ("sweep", "layers"); `total` is the count at the end.
+  ProgressBar(std::string command, std::string unit, std::size_t total, bool wanted);
+  /// Draws `done` of the total (a newline after the last).
+  void step(std::size_t done);
+
+ private:
+  std::string command_, unit_;
+  std::size_t total_;
+  bool enabled_;
+  std::mutex mutex_;
+};
 
 /// "; did you mean 'slice'?" for the closest of `names` (closest_name), or "".
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& names);

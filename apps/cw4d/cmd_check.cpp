@@ -316,26 +316,6 @@ FileReport check_file(const std::string& path, const CheckSettings& s) {
   return r;
 }
 
-class Progress {
- public:
-  Progress(std::size_t total, bool quiet) : total_(total), enabled_(!quiet && ::isatty(2) != 0) {}
-  void step(std::size_t done) {
-    if (!enabled_) return;
-    std::lock_guard lock(mutex_);
-    constexpr std::size_t width = 40;
-    const std::size_t filled = total_ ? done * width / total_ : width;
-    std::fprintf(stderr, "\rcw4d: check [%s%s] %zu/%zu files", std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, total_);
-    if (done == total_) std::fputc('\n', stderr);
-    std::fflush(stderr);
-  }
-
- private:
-  std::size_t total_;
-  bool enabled_;
-  std::mutex mutex_;
-};
-
 std::string fvector_text(const std::vector<std::size_t>& f) {
   std::string out;
   for (auto x : f) out += (out.empty() ? "" : " ") + std::to_string(x);
@@ -352,7 +332,7 @@ void run_check(const CheckSettings& s) {
   const unsigned threads =
       std::max(1u, std::min<unsigned>(s.threads ? s.threads : std::thread::hardware_concurrency(),
                                       static_cast<unsigned>(files.size())));
-  Progress progress(files.size(), s.quiet);
+  ProgressBar progress("check", "files", files.size(), !s.quiet);
   std::atomic<std::size_t> next{0}, done{0};
   const auto start = std::chrono::steady_clock::now();
   auto worker = [&] {

@@ -149,25 +149,6 @@ std::pair<int, int> rotation_plane(const std::string& spec) {
   return {static_cast<int>(axes.find(plane[0])), static_cast<int>(axes.find(plane[1]))};
 }
 
-// A progress bar on stderr for --animate, drawn only when stderr is a terminal (as sweep's).
-class AnimationProgress {
- public:
-  explicit AnimationProgress(int total) : total_(total), enabled_(::isatty(2) != 0) {}
-  void step(int done) {
-    if (!enabled_) return;
-    constexpr int width = 40;
-    const int filled = total_ ? done * width / total_ : width;
-    std::fprintf(stderr, "\rcw4d: render [%s%s] %d/%d frames", std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, total_);
-    if (done == total_) std::fputc('\n', stderr);
-    std::fflush(stderr);
-  }
-
- private:
-  int total_;
-  bool enabled_;
-};
-
 // An animated WebP of the section: a sweep of the plane across the input, a full turn of every
 // object in one plane about the origin, or the 3D camera orbiting the section's up axis.
 std::string run_animation(const RenderSettings& s, const Input& input, Placement& p) {
@@ -210,7 +191,7 @@ std::string run_animation(const RenderSettings& s, const Input& input, Placement
                                        ? render::AnimationEncoder::Format::Gif
                                        : render::AnimationEncoder::Format::WebP,
                                    o.raster.width, o.raster.height, ao);
-  AnimationProgress progress(s.frames);
+  ProgressBar progress("render", "frames", static_cast<std::size_t>(s.frames), true);
   int empty = 0;
   for (int i = 0; i < s.frames; ++i) {
     const double turn = 2.0 * std::numbers::pi * i / s.frames;

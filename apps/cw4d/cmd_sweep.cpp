@@ -31,25 +31,6 @@ struct SweepSettings {
   std::string output;
 };
 
-// A progress bar on stderr, drawn only when stderr is a terminal.
-class Progress {
- public:
-  Progress(int total, bool enabled) : total_(total), enabled_(enabled && ::isatty(2)) {}
-  void step(int done) {
-    if (!enabled_) return;
-    constexpr int width = 40;
-    const int filled = total_ ? done * width / total_ : width;
-    std::fprintf(stderr, "\rcw4d: sweep [%s%s] %d/%d layers", std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), done, total_);
-    if (done == total_) std::fputc('\n', stderr);
-    std::fflush(stderr);
-  }
-
- private:
-  int total_;
-  bool enabled_;
-};
-
 // Where layer i goes when the sweep is written as one file per layer.
 struct LayerFiles {
   fs::path directory;
@@ -124,7 +105,7 @@ void run_sweep(SweepSettings& s) {
     if (staging) staging->discard();
   };
 
-  Progress progress(s.layers, !s.quiet);
+  ProgressBar progress("sweep", "layers", static_cast<std::size_t>(s.layers), !s.quiet);
   std::vector<GltfNode> nodes;
   std::vector<int> empty;
   std::vector<std::string> written;  // per layer file, for the summary
