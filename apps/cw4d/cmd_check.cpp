@@ -1,6 +1,5 @@
 // cw4d check: import, validate, cut and round-trip every nOFF (or G4MF) file of a collection, on
 // every core, with a report per file (a table on stdout, --json FILE).
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -12,7 +11,6 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <mutex>
 #include <new>
 #include <nlohmann/json.hpp>
 #include <numbers>

@@ -9,8 +9,6 @@
 #include <optional>
 #include <tuple>
 
-#include <unistd.h>
-
 #include "cli.hpp"
 #include "cw4d/complex/atomic_file.hpp"
 #include "cw4d/complex/text.hpp"

@@ -1,5 +1,4 @@
 // cw4d sweep: N parallel sections, written as numbered files or as one animated glTF.
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
